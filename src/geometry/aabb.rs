@@ -1,0 +1,136 @@
+use super::{Ray, Transform};
+use glam::DVec3;
+
+/// An axis-aligned bounding box. `Aabb::EMPTY` has min > max; unbounded
+/// shapes (planes, some implicit surfaces) report infinite extents.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Aabb {
+    pub min: DVec3,
+    pub max: DVec3,
+}
+
+impl Aabb {
+    pub const EMPTY: Aabb = Aabb {
+        min: DVec3::splat(f64::INFINITY),
+        max: DVec3::splat(f64::NEG_INFINITY),
+    };
+    pub const INFINITE: Aabb = Aabb {
+        min: DVec3::splat(f64::NEG_INFINITY),
+        max: DVec3::splat(f64::INFINITY),
+    };
+
+    pub fn new(a: DVec3, b: DVec3) -> Self {
+        Aabb {
+            min: a.min(b),
+            max: a.max(b),
+        }
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.min.x > self.max.x || self.min.y > self.max.y || self.min.z > self.max.z
+    }
+
+    pub fn is_finite(&self) -> bool {
+        self.min.is_finite() && self.max.is_finite()
+    }
+
+    pub fn union(&self, o: &Aabb) -> Aabb {
+        Aabb {
+            min: self.min.min(o.min),
+            max: self.max.max(o.max),
+        }
+    }
+
+    pub fn intersection(&self, o: &Aabb) -> Aabb {
+        Aabb {
+            min: self.min.max(o.min),
+            max: self.max.min(o.max),
+        }
+    }
+
+    pub fn grow(&self, p: DVec3) -> Aabb {
+        Aabb {
+            min: self.min.min(p),
+            max: self.max.max(p),
+        }
+    }
+
+    pub fn centre(&self) -> DVec3 {
+        0.5 * (self.min + self.max)
+    }
+
+    pub fn extent(&self) -> DVec3 {
+        self.max - self.min
+    }
+
+    /// Surface area, the cost measure of the SAH.
+    pub fn area(&self) -> f64 {
+        if self.is_empty() {
+            return 0.0;
+        }
+        let d = self.extent();
+        2.0 * (d.x * d.y + d.y * d.z + d.z * d.x)
+    }
+
+    pub fn contains(&self, p: DVec3) -> bool {
+        p.cmpge(self.min).all() && p.cmple(self.max).all()
+    }
+
+    /// The parametric interval where the ray is inside the box, clipped to
+    /// `[t_min, t_max]`; slab test. Zero direction components give ±inf
+    /// reciprocals, which the min/max ordering handles (NaN from 0·inf only
+    /// occurs for rays lying in a slab plane and is treated as a miss-free pass
+    /// by `f64::max`/`min`, which ignore NaN).
+    pub fn clip(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<(f64, f64)> {
+        let inv = ray.dir.recip();
+        let t0 = (self.min - ray.origin) * inv;
+        let t1 = (self.max - ray.origin) * inv;
+        let near = t0.min(t1);
+        let far = t0.max(t1);
+        let lo = t_min.max(near.x).max(near.y).max(near.z);
+        let hi = t_max.min(far.x).min(far.y).min(far.z);
+        (lo <= hi).then_some((lo, hi))
+    }
+
+    /// The box around the eight transformed corners.
+    pub fn transformed(&self, xf: &Transform) -> Aabb {
+        if !self.is_finite() {
+            return if self.is_empty() {
+                *self
+            } else {
+                Aabb::INFINITE
+            };
+        }
+        let mut out = Aabb::EMPTY;
+        for i in 0..8 {
+            let c = DVec3::new(
+                if i & 1 == 0 { self.min.x } else { self.max.x },
+                if i & 2 == 0 { self.min.y } else { self.max.y },
+                if i & 4 == 0 { self.min.z } else { self.max.z },
+            );
+            out = out.grow(xf.point(c));
+        }
+        out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn clip_hits_and_misses() {
+        let b = Aabb::new(DVec3::splat(-1.0), DVec3::splat(1.0));
+        let r = Ray::new(DVec3::new(0.0, 0.0, 5.0), DVec3::new(0.0, 0.0, -1.0));
+        assert_eq!(b.clip(&r, 0.0, f64::INFINITY), Some((4.0, 6.0)));
+        let miss = Ray::new(DVec3::new(2.0, 0.0, 5.0), DVec3::new(0.0, 0.0, -1.0));
+        assert_eq!(b.clip(&miss, 0.0, f64::INFINITY), None);
+        assert_eq!(b.clip(&r, 0.0, 3.0), None);
+    }
+
+    #[test]
+    fn area_of_unit_cube() {
+        assert_eq!(Aabb::new(DVec3::ZERO, DVec3::ONE).area(), 6.0);
+        assert_eq!(Aabb::EMPTY.area(), 0.0);
+    }
+}

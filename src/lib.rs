@@ -1,0 +1,130 @@
+//! raytrace: a Whitted-style ray tracer driven by a scene-description
+//! language.
+//!
+//! ```text
+//!  scene.rt ──parse──▶ lang::Program ──build──▶ scene::Scene ──accelerate──▶ accel::World
+//!     (lang/)              (scene/)                                (accel/)
+//!                    ──render──▶ render::Film ──write──▶ out.png
+//!                      (render/)                 (output.rs)
+//! ```
+//!
+//! [`run`] is the whole program, one line per stage.
+
+pub mod accel;
+pub mod cli;
+pub mod geometry;
+pub mod implicit;
+pub mod lang;
+pub mod output;
+pub mod render;
+pub mod scene;
+pub mod shapes;
+
+use cli::Args;
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use miette::{IntoDiagnostic, Result};
+use std::time::{Duration, Instant};
+
+/// Runs the command line: parse, build, accelerate, render, write.
+pub fn run(args: &Args) -> Result<()> {
+    let format = args
+        .output
+        .as_deref()
+        .map(output::Format::from_path)
+        .transpose()?;
+    let clock = Instant::now();
+    let program = lang::load(&args.scene)?;
+    let parsed = clock.elapsed();
+    let mut scene = scene::build(&program)?;
+    apply_overrides(args, &mut scene);
+    let built = clock.elapsed();
+    if args.check {
+        return Ok(());
+    }
+    let (Some(path), Some(format)) = (&args.output, format) else {
+        return Ok(());
+    };
+    let transfer = scene.settings.transfer;
+    let world = accel::World::build(std::mem::take(&mut scene.objects));
+    let (film, stats) = render_with_progress(args, &scene, &world)?;
+    output::write(&film, path, format, transfer)?;
+    if args.stats {
+        print_stats(parsed, built - parsed, &world, &stats, clock.elapsed());
+    }
+    Ok(())
+}
+
+fn apply_overrides(args: &Args, scene: &mut scene::Scene) {
+    if let Some(w) = args.width {
+        scene.settings.width = w.get();
+    }
+    if let Some(h) = args.height {
+        scene.settings.height = h.get();
+    }
+}
+
+fn render_with_progress(
+    args: &Args,
+    scene: &scene::Scene,
+    world: &accel::World,
+) -> Result<(render::Film, render::RenderStats)> {
+    let mut pool = rayon::ThreadPoolBuilder::new();
+    if let Some(n) = args.threads {
+        pool = pool.num_threads(n.get() as usize);
+    }
+    let pool = pool.build().into_diagnostic()?;
+    // The bar stays hidden for quick renders and when stderr is not a
+    // terminal (indicatif's stderr target hides itself then).
+    let bar = ProgressBar::with_draw_target(
+        Some(scene.settings.height as u64),
+        ProgressDrawTarget::hidden(),
+    );
+    bar.set_style(
+        ProgressStyle::with_template("{bar:40} {percent:>3}% rows, {elapsed} elapsed, {eta} left")
+            .expect("template is valid"),
+    );
+    let start = Instant::now();
+    let show = !args.quiet;
+    let progress = |rows: u64| {
+        if show && bar.is_hidden() && start.elapsed() > Duration::from_millis(300) {
+            bar.set_draw_target(ProgressDrawTarget::stderr());
+        }
+        bar.set_position(rows);
+    };
+    let opts = render::RenderOptions {
+        progress: Some(&progress),
+    };
+    let out = pool.install(|| render::render(scene, world, &opts));
+    bar.finish_and_clear();
+    out.ok_or_else(|| miette::miette!("the camera has no valid frame"))
+}
+
+fn print_stats(
+    parse: Duration,
+    build: Duration,
+    world: &accel::World,
+    stats: &render::RenderStats,
+    total: Duration,
+) {
+    let a = &world.stats;
+    let r = &stats.rays;
+    eprintln!("parse      {:>10.3} s", parse.as_secs_f64());
+    eprintln!("build      {:>10.3} s", build.as_secs_f64());
+    eprintln!(
+        "accelerate {:>10.3} s  ({} objects, {} unbounded, {} nodes)",
+        a.build_seconds, a.objects, a.unbounded, a.nodes
+    );
+    eprintln!("render     {:>10.3} s", stats.seconds);
+    eprintln!("total      {:>10.3} s", total.as_secs_f64());
+    eprintln!(
+        "rays       {:>10}  (primary {}, reflected {}, shadow {})",
+        r.total(),
+        r.primary,
+        r.reflected,
+        r.shadow
+    );
+    eprintln!(
+        "rays/s     {:>10.0}",
+        r.total() as f64 / stats.seconds.max(1e-9)
+    );
+}

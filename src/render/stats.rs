@@ -1,0 +1,25 @@
+/// Rays cast, by kind.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct RayCounts {
+    pub primary: u64,
+    pub reflected: u64,
+    pub shadow: u64,
+}
+
+impl RayCounts {
+    pub fn add(&mut self, o: &RayCounts) {
+        self.primary += o.primary;
+        self.reflected += o.reflected;
+        self.shadow += o.shadow;
+    }
+
+    pub fn total(&self) -> u64 {
+        self.primary + self.reflected + self.shadow
+    }
+}
+
+#[derive(Clone, Debug, Default)]
+pub struct RenderStats {
+    pub seconds: f64,
+    pub rays: RayCounts,
+}

@@ -1,0 +1,143 @@
+//! The course's pinhole camera: position p, look-at q, up u, and a view
+//! plane at distance z of width w and height h (world units). A field of
+//! view is the same camera with distance 1 and width 2·tan(A/2), its height
+//! following the pixel aspect.
+
+use crate::geometry::{DVec3, Ray};
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum Projection {
+    /// Horizontal field of view in degrees.
+    Fov(f64),
+    /// The course's view plane.
+    ViewPlane {
+        distance: f64,
+        width: f64,
+        height: f64,
+    },
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Camera {
+    pub position: DVec3,
+    pub look_at: DVec3,
+    pub up: DVec3,
+    pub projection: Projection,
+}
+
+impl Default for Camera {
+    fn default() -> Self {
+        Camera {
+            position: DVec3::new(0.0, 0.0, 4.0),
+            look_at: DVec3::ZERO,
+            up: DVec3::Y,
+            projection: Projection::Fov(60.0),
+        }
+    }
+}
+
+/// The camera prepared for one image size: everything per pixel is a
+/// multiply-add.
+#[derive(Clone, Debug)]
+pub struct PixelRays {
+    origin: DVec3,
+    /// Centre of the view plane minus half its width and plus half its height
+    /// (the top-left corner), then per-pixel steps.
+    corner: DVec3,
+    step_right: DVec3,
+    step_down: DVec3,
+}
+
+impl Camera {
+    /// The orthonormal frame (view direction l, right r, up u'), or `None`
+    /// when position = look-at or up is parallel to the view direction.
+    pub fn frame(&self) -> Option<(DVec3, DVec3, DVec3)> {
+        let l = (self.look_at - self.position).try_normalize()?;
+        let r = l.cross(self.up).try_normalize()?;
+        let u = r.cross(l);
+        Some((l, r, u))
+    }
+
+    /// The view plane's distance, width and height for an image of `px_w` by
+    /// `px_h` pixels.
+    pub fn view_plane(&self, px_w: u32, px_h: u32) -> (f64, f64, f64) {
+        match self.projection {
+            Projection::Fov(a) => {
+                let w = 2.0 * (a.to_radians() / 2.0).tan();
+                (1.0, w, w * px_h as f64 / px_w as f64)
+            }
+            Projection::ViewPlane {
+                distance,
+                width,
+                height,
+            } => (distance, width, height),
+        }
+    }
+
+    pub fn pixel_rays(&self, px_w: u32, px_h: u32) -> Option<PixelRays> {
+        let (l, r, u) = self.frame()?;
+        let (z, w, h) = self.view_plane(px_w, px_h);
+        let centre = self.position + z * l;
+        let step_right = r * (w / px_w as f64);
+        let step_down = -u * (h / px_h as f64);
+        Some(PixelRays {
+            origin: self.position,
+            corner: centre - r * (w / 2.0) + u * (h / 2.0),
+            step_right,
+            step_down,
+        })
+    }
+}
+
+impl PixelRays {
+    /// The ray through the centre of pixel (column a, row b), row 0 at the top.
+    pub fn ray(&self, a: u32, b: u32) -> Ray {
+        let p =
+            self.corner + (a as f64 + 0.5) * self.step_right + (b as f64 + 0.5) * self.step_down;
+        Ray::new(self.origin, (p - self.origin).normalize())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn course_orientation() {
+        // At <0,0,4> looking at the origin: +x right, +y up.
+        let cam = Camera {
+            projection: Projection::ViewPlane {
+                distance: 1.0,
+                width: 2.0,
+                height: 2.0,
+            },
+            ..Camera::default()
+        };
+        let px = cam.pixel_rays(100, 100).unwrap();
+        let right = px.ray(99, 50);
+        assert!(right.dir.x > 0.0);
+        let top = px.ray(50, 0);
+        assert!(top.dir.y > 0.0);
+        let c = px.ray(50, 50).dir;
+        assert!(c.z < -0.99);
+    }
+
+    #[test]
+    fn fov_width() {
+        let cam = Camera {
+            projection: Projection::Fov(90.0),
+            ..Camera::default()
+        };
+        let (z, w, h) = cam.view_plane(200, 100);
+        assert!((z - 1.0).abs() < 1e-12 && (w - 2.0).abs() < 1e-12 && (h - 1.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn degenerate_frames_are_refused() {
+        let cam = Camera {
+            up: DVec3::new(0.0, 0.0, 1.0),
+            ..Camera::default()
+        };
+        assert!(cam.frame().is_none());
+    }
+}

@@ -1,0 +1,151 @@
+//! Shapes: each file is one kind of surface, opening with its `.rt` syntax.
+//!
+//! Every shape works in its own space and answers two questions about a ray
+//! `origin + t·dir` (where `dir` need not be unit length, see [`Ray`]):
+//! the nearest hit in an interval, and every crossing of its surface along
+//! the whole line (constructive solid geometry needs those). Placement in the
+//! world is [`Transformed`]'s job, not the shape's.
+
+mod cone;
+pub mod csg;
+mod cuboid;
+mod cylinder;
+mod disc;
+pub mod mesh;
+mod plane;
+mod rectangle;
+mod sphere;
+mod torus;
+mod transformed;
+mod triangle;
+
+pub use cone::Cone;
+pub use csg::{Csg, CsgOp};
+pub use cuboid::Cuboid;
+pub use cylinder::Cylinder;
+pub use disc::Disc;
+pub use mesh::{Mesh, MeshData};
+pub use plane::Plane;
+pub use rectangle::Rectangle;
+pub use sphere::Sphere;
+pub use torus::Torus;
+pub use transformed::Transformed;
+pub use triangle::Triangle;
+
+use crate::geometry::{Aabb, DVec2, DVec3, Ray};
+use crate::scene::MaterialId;
+
+/// Where a ray meets a surface.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Hit {
+    /// Ray parameter; the same in world and object space.
+    pub t: f64,
+    /// The outward normal of the surface at the hit (pointing out of the
+    /// solid for closed shapes; the shape's own front side for open ones).
+    /// Not necessarily unit length, and NOT turned towards the ray: the
+    /// renderer does that. CSG relies on it to tell entering from leaving.
+    pub normal: DVec3,
+    /// Texture coordinates as listed in conventions.md.
+    pub uv: DVec2,
+    /// The hit point in the shape's own space (before any transform), for
+    /// solid textures that must move with the object.
+    pub local: DVec3,
+    pub material: MaterialId,
+}
+
+/// A surface the renderer can trace.
+pub trait Shape: Send + Sync + std::fmt::Debug {
+    /// The nearest hit with `t_min < t < t_max`.
+    fn intersect(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<Hit>;
+
+    /// Whether anything lies on the ray with `t_min < t < t_max`
+    /// (shadow rays: no shading data needed).
+    fn occludes(&self, ray: &Ray, t_min: f64, t_max: f64) -> bool {
+        self.intersect(ray, t_min, t_max).is_some()
+    }
+
+    /// Every crossing of the surface along the whole line (any `t`, negative
+    /// too), appended to `out` in increasing `t`. For a closed solid they
+    /// alternate entering / leaving, which the sign of `normal · dir` tells.
+    fn crossings(&self, ray: &Ray, out: &mut Vec<Hit>);
+
+    /// A box around the shape in its own space; `Aabb::INFINITE` when
+    /// unbounded.
+    fn bounds(&self) -> Aabb;
+
+    /// Whether the shape encloses a volume (so CSG may use it).
+    fn is_solid(&self) -> bool;
+}
+
+/// Solves a·t² + b·t + c = 0 (a ≠ 0) without cancellation: the root of the
+/// larger magnitude comes from the q-form `q = -(b + sign(b)·√disc)/2`, the
+/// other from `c / q`, so neither subtracts nearly equal numbers.
+pub fn solve_quadratic(a: f64, b: f64, c: f64) -> Option<(f64, f64)> {
+    let disc = b * b - 4.0 * a * c;
+    if disc < 0.0 || a == 0.0 {
+        return None;
+    }
+    let q = -0.5 * (b + b.signum() * disc.sqrt());
+    if q == 0.0 {
+        return Some((0.0, 0.0));
+    }
+    let (t0, t1) = (q / a, c / q);
+    Some(if t0 <= t1 { (t0, t1) } else { (t1, t0) })
+}
+
+#[cfg(test)]
+pub(crate) mod testing {
+    //! Property helpers every shape's tests share.
+    use super::*;
+
+    /// Rays from random points on a big sphere around `target`, aimed near it.
+    pub fn rays_towards(target: DVec3, spread: f64, n: usize, seed: u64) -> Vec<Ray> {
+        let mut s = seed.wrapping_mul(6364136223846793005).wrapping_add(1);
+        let mut rnd = move || {
+            s = s
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((s >> 11) as f64) / ((1u64 << 53) as f64) * 2.0 - 1.0
+        };
+        (0..n)
+            .map(|_| {
+                let o = target + DVec3::new(rnd(), rnd(), rnd()).normalize_or(DVec3::X) * 10.0;
+                let aim = target + DVec3::new(rnd(), rnd(), rnd()) * spread;
+                Ray::new(o, (aim - o).normalize())
+            })
+            .collect()
+    }
+
+    /// The nearest hit must be the first of the crossings in range, and a ray
+    /// leaving the surface from the hit must not hit it again at once.
+    pub fn check_consistency(shape: &dyn Shape, rays: &[Ray]) {
+        for r in rays {
+            let hit = shape.intersect(r, 1e-9, f64::INFINITY);
+            let mut xs = Vec::new();
+            shape.crossings(r, &mut xs);
+            let first = xs.iter().find(|h| h.t > 1e-9);
+            match (hit, first) {
+                (Some(h), Some(f)) => assert!((h.t - f.t).abs() < 1e-6, "{h:?} vs {f:?}"),
+                (None, None) => {}
+                (h, f) => panic!("nearest {h:?} but crossings {f:?} for {r:?}"),
+            }
+            for w in xs.windows(2) {
+                assert!(w[0].t <= w[1].t, "crossings out of order");
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn quadratic_is_stable_for_tiny_roots() {
+        // Roots 1e-9 and 1e9: the naive formula loses the small one.
+        let (a, b) = solve_quadratic(1.0, -(1e9 + 1e-9), 1.0).unwrap();
+        assert!((a - 1e-9).abs() / 1e-9 < 1e-6);
+        assert!((b - 1e9).abs() / 1e9 < 1e-12);
+        assert!(solve_quadratic(1.0, 0.0, 1.0).is_none());
+    }
+}

@@ -1,0 +1,103 @@
+//! An infinite plane, a half-space for CSG (the solid side is behind the
+//! normal).
+//!
+//! ```text
+//! plane { normal <0, 1, 0>  offset 0  material floor }   // y = 0
+//! plane { material floor }                             // z = 0, normal +z
+//! ```
+//! Texture space: u = x, v = y in the plane's own frame (unbounded).
+
+use super::{Hit, Shape};
+use crate::geometry::{Aabb, DVec2, DVec3, Ray};
+use crate::scene::MaterialId;
+
+#[derive(Clone, Debug)]
+pub struct Plane {
+    /// Unit normal.
+    pub normal: DVec3,
+    /// Points p with normal·p = offset lie on the plane.
+    pub offset: f64,
+    pub material: MaterialId,
+    /// In-plane axes for u and v: for the canonical z = 0 plane these are x
+    /// and y, otherwise the canonical frame rotated onto `normal`.
+    u_axis: DVec3,
+    v_axis: DVec3,
+}
+
+impl Plane {
+    /// `normal` must be non-zero (the builder reports a zero normal).
+    pub fn new(normal: DVec3, offset: f64, material: MaterialId) -> Self {
+        let n = normal.normalize();
+        let rot = glam::DQuat::from_rotation_arc(DVec3::Z, n);
+        Plane {
+            normal: n,
+            offset,
+            material,
+            u_axis: rot * DVec3::X,
+            v_axis: rot * DVec3::Y,
+        }
+    }
+
+    fn hit_at(&self, ray: &Ray, t: f64) -> Hit {
+        let p = ray.at(t);
+        Hit {
+            t,
+            normal: self.normal,
+            uv: DVec2::new(p.dot(self.u_axis), p.dot(self.v_axis)),
+            local: p,
+            material: self.material,
+        }
+    }
+
+    fn root(&self, ray: &Ray) -> Option<f64> {
+        let denom = self.normal.dot(ray.dir);
+        if denom == 0.0 {
+            return None;
+        }
+        Some((self.offset - self.normal.dot(ray.origin)) / denom)
+    }
+}
+
+impl Shape for Plane {
+    fn intersect(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<Hit> {
+        let t = self.root(ray)?;
+        (t > t_min && t < t_max).then(|| self.hit_at(ray, t))
+    }
+
+    fn crossings(&self, ray: &Ray, out: &mut Vec<Hit>) {
+        if let Some(t) = self.root(ray) {
+            out.push(self.hit_at(ray, t));
+        }
+    }
+
+    fn bounds(&self) -> Aabb {
+        Aabb::INFINITE
+    }
+
+    fn is_solid(&self) -> bool {
+        true
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn floor_hit_and_uv() {
+        let p = Plane::new(DVec3::Y, 0.0, 0);
+        let r = Ray::new(DVec3::new(2.0, 3.0, 1.0), -DVec3::Y);
+        let h = p.intersect(&r, 1e-9, f64::INFINITY).unwrap();
+        assert!((h.t - 3.0).abs() < 1e-12);
+        assert!(
+            p.intersect(&Ray::new(DVec3::Y, DVec3::X), 0.0, f64::INFINITY)
+                .is_none()
+        );
+        // Canonical plane: u = x, v = y.
+        let z = Plane::new(DVec3::Z, 0.0, 0);
+        let h = z
+            .intersect(&Ray::new(DVec3::new(0.3, 0.7, 1.0), -DVec3::Z), 0.0, 9.0)
+            .unwrap();
+        assert!((h.uv - DVec2::new(0.3, 0.7)).length() < 1e-12);
+    }
+}

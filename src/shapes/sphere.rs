@@ -1,0 +1,116 @@
+//! A sphere.
+//!
+//! ```text
+//! sphere { centre <0, 1, 0>  radius 1  material gold }
+//! ```
+//! Texture space: n = (p − c)/r; u = atan2(n.x, n.z)/2π wrapped to [0, 1),
+//! v = 1 − acos(n.y)/π.
+
+use super::{Hit, Shape, solve_quadratic};
+use crate::geometry::{Aabb, DVec2, DVec3, Ray};
+use crate::scene::MaterialId;
+use std::f64::consts::PI;
+
+#[derive(Clone, Debug)]
+pub struct Sphere {
+    pub centre: DVec3,
+    pub radius: f64,
+    pub material: MaterialId,
+}
+
+impl Sphere {
+    pub fn new(centre: DVec3, radius: f64, material: MaterialId) -> Self {
+        Sphere {
+            centre,
+            radius,
+            material,
+        }
+    }
+
+    fn hit_at(&self, ray: &Ray, t: f64) -> Hit {
+        let p = ray.at(t);
+        let n = (p - self.centre) / self.radius;
+        Hit {
+            t,
+            normal: n,
+            uv: sphere_uv(n),
+            local: p,
+            material: self.material,
+        }
+    }
+
+    fn roots(&self, ray: &Ray) -> Option<(f64, f64)> {
+        let oc = ray.origin - self.centre;
+        let a = ray.dir.length_squared();
+        let b = 2.0 * oc.dot(ray.dir);
+        let c = oc.length_squared() - self.radius * self.radius;
+        solve_quadratic(a, b, c)
+    }
+}
+
+/// Texture coordinates of a unit direction from a sphere's centre.
+pub fn sphere_uv(n: DVec3) -> DVec2 {
+    let mut u = n.x.atan2(n.z) / (2.0 * PI);
+    if u < 0.0 {
+        u += 1.0;
+    }
+    let v = 1.0 - n.y.clamp(-1.0, 1.0).acos() / PI;
+    DVec2::new(u.min(1.0 - f64::EPSILON), v)
+}
+
+impl Shape for Sphere {
+    fn intersect(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<Hit> {
+        let (t0, t1) = self.roots(ray)?;
+        let t = if t0 > t_min { t0 } else { t1 };
+        (t > t_min && t < t_max).then(|| self.hit_at(ray, t))
+    }
+
+    fn crossings(&self, ray: &Ray, out: &mut Vec<Hit>) {
+        if let Some((t0, t1)) = self.roots(ray) {
+            out.push(self.hit_at(ray, t0));
+            out.push(self.hit_at(ray, t1));
+        }
+    }
+
+    fn bounds(&self) -> Aabb {
+        Aabb::new(
+            self.centre - DVec3::splat(self.radius),
+            self.centre + DVec3::splat(self.radius),
+        )
+    }
+
+    fn is_solid(&self) -> bool {
+        true
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::shapes::testing;
+
+    #[test]
+    fn hit_from_outside_and_inside() {
+        let s = Sphere::new(DVec3::ZERO, 1.0, 0);
+        let r = Ray::new(DVec3::new(0.0, 0.0, 5.0), -DVec3::Z);
+        let h = s.intersect(&r, 1e-9, f64::INFINITY).unwrap();
+        assert!((h.t - 4.0).abs() < 1e-12);
+        assert!((h.normal - DVec3::Z).length() < 1e-12);
+        let inside = Ray::new(DVec3::ZERO, DVec3::X);
+        assert!((s.intersect(&inside, 1e-9, f64::INFINITY).unwrap().t - 1.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn uv_convention() {
+        // +z front is u = 0, top is v = 1.
+        assert!(sphere_uv(DVec3::Z).x.abs() < 1e-12);
+        assert!((sphere_uv(DVec3::Y).y - 1.0).abs() < 1e-12);
+        assert!((sphere_uv(DVec3::X).x - 0.25).abs() < 1e-12);
+    }
+
+    #[test]
+    fn consistent() {
+        let s = Sphere::new(DVec3::new(1.0, 2.0, 3.0), 1.5, 0);
+        testing::check_consistency(&s, &testing::rays_towards(s.centre, 2.0, 500, 1));
+    }
+}

@@ -1,0 +1,90 @@
+//! Any shape moved by an affine transform. The ray goes into the shape's
+//! space by the inverse (keeping `t`), the normal comes back by the inverse
+//! transpose. Nested transforms are composed by the builder, so a shape has
+//! at most one of these around it.
+
+use super::{Hit, Shape};
+use crate::geometry::{Aabb, Ray, Transform};
+
+#[derive(Debug)]
+pub struct Transformed {
+    pub inner: Box<dyn Shape>,
+    pub transform: Transform,
+    bounds: Aabb,
+}
+
+impl Transformed {
+    pub fn new(inner: Box<dyn Shape>, transform: Transform) -> Self {
+        let bounds = inner.bounds().transformed(&transform);
+        Transformed {
+            inner,
+            transform,
+            bounds,
+        }
+    }
+
+    fn local_ray(&self, ray: &Ray) -> Ray {
+        Ray::new(
+            self.transform.inverse_point(ray.origin),
+            self.transform.inverse_vector(ray.dir),
+        )
+    }
+
+    fn to_world(&self, mut h: Hit) -> Hit {
+        h.normal = self.transform.normal(h.normal);
+        h
+    }
+}
+
+impl Shape for Transformed {
+    fn intersect(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<Hit> {
+        self.inner
+            .intersect(&self.local_ray(ray), t_min, t_max)
+            .map(|h| self.to_world(h))
+    }
+
+    fn occludes(&self, ray: &Ray, t_min: f64, t_max: f64) -> bool {
+        self.inner.occludes(&self.local_ray(ray), t_min, t_max)
+    }
+
+    fn crossings(&self, ray: &Ray, out: &mut Vec<Hit>) {
+        let start = out.len();
+        self.inner.crossings(&self.local_ray(ray), out);
+        for h in &mut out[start..] {
+            *h = self.to_world(*h);
+        }
+    }
+
+    fn bounds(&self) -> Aabb {
+        self.bounds
+    }
+
+    fn is_solid(&self) -> bool {
+        self.inner.is_solid()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::DVec3;
+    use crate::shapes::Sphere;
+
+    #[test]
+    fn scaled_sphere_is_an_ellipsoid() {
+        let s = Transformed::new(
+            Box::new(Sphere::new(DVec3::ZERO, 1.0, 0)),
+            Transform::scale(DVec3::new(2.0, 1.0, 1.0)).unwrap(),
+        );
+        let r = Ray::new(DVec3::new(5.0, 0.0, 0.0), -DVec3::X);
+        let h = s.intersect(&r, 0.0, f64::INFINITY).unwrap();
+        assert!((h.t - 3.0).abs() < 1e-12);
+        assert!((s.bounds().max - DVec3::new(2.0, 1.0, 1.0)).length() < 1e-12);
+        // Normal at (√2, √0.5, 0) on the ellipsoid x²/4 + y² = 1 is ∝ (x/4, y).
+        let p = DVec3::new(2f64.sqrt(), 0.5f64.sqrt(), 0.0);
+        let r = Ray::new(p * 2.0, -p);
+        let h = s.intersect(&r, 0.0, f64::INFINITY).unwrap();
+        let expected = DVec3::new(p.x / 4.0, p.y, 0.0).normalize();
+        assert!((h.normal.normalize() - expected).length() < 1e-9);
+    }
+}
