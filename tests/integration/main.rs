@@ -1,0 +1,1 @@
+//! End-to-end tests: one binary (link once), one module per area.
