@@ -124,3 +124,22 @@ fn bad_flags_are_refused() {
     assert!(!o.status.success());
     assert!(!out.exists());
 }
+
+#[test]
+fn huge_images_are_refused_before_allocating() {
+    let (dir, scene) = scene_file(SCENE);
+    let out = dir.path().join("out.png");
+    let o = raytrace(&[
+        scene.as_os_str(),
+        "-o".as_ref(),
+        out.as_os_str(),
+        "--width".as_ref(),
+        "100000".as_ref(),
+        "--height".as_ref(),
+        "100000".as_ref(),
+    ]);
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("--allow-large"), "{err}");
+    assert!(!out.exists());
+}
