@@ -1,1 +1,4 @@
 //! End-to-end tests: one binary (link once), one module per area.
+
+mod diagnostics;
+mod lang;
