@@ -357,7 +357,7 @@ fn deep_nesting_is_an_error_not_a_crash() {
     for src in [
         "(".repeat(100_000),
         format!("let a = {}1{}", "(".repeat(100_000), ")".repeat(100_000)),
-        format!("{}", "group { ".repeat(10_000)),
+        "group { ".repeat(10_000),
         format!("let a = {}1", "-".repeat(100_000)),
     ] {
         let e = errors(&src);
