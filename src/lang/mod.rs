@@ -134,10 +134,7 @@ impl Loader {
         let Ok(canonical) = path.canonicalize() else {
             let e = Error::new(string, format!("cannot find the included file `{rel}`"))
                 .label(format!("looked for {}", path.display()))
-                .help(format!(
-                    "an include path is relative to the file that includes it ({})",
-                    self.sources.get(from).name
-                ));
+                .help("an include path is relative to the folder of the file that includes it");
             self.errors.push(e);
             return Vec::new();
         };

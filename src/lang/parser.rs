@@ -396,6 +396,9 @@ fn syntax_error(e: pest::error::Error<Rule>, text: &str, file: FileId) -> Error 
     if let ErrorVariant::CustomError { message } = &e.variant {
         push(message.clone());
     }
+    if expected.iter().any(|e| e.starts_with("a value")) {
+        expected.retain(|e| e != "a name");
+    }
     let (found, len) = found_at(text, pos);
     let list = match expected.len() {
         0 => "something else".to_string(),
@@ -552,14 +555,21 @@ pub fn check_brackets(text: &str, file: FileId) -> Vec<Error> {
 }
 
 fn unclosed_at_eof(text: &str, file: FileId, o: &Open) -> Error {
-    let end = text.len();
+    // The last character of the file, so the label shows.
+    let end = text.trim_end().len();
+    let end = if end == 0 {
+        0
+    } else {
+        super::source::floor_char_boundary(text, end - 1)
+    };
+    let end_span = Span::new(file, end, text.trim_end().len());
     if o.ch != '{' {
         return Error::new(
             Span::new(file, o.at, o.at + 1),
             format!("`{}` is never closed", o.ch),
         )
         .label(format!("this `{}` needs a `{}`", o.ch, closer(o.ch)))
-        .note(Span::new(file, end, end), "the file ends here");
+        .note(end_span, "the file ends here");
     }
     let owner = block_owner(text, o.at);
     let what = owner
@@ -570,7 +580,7 @@ fn unclosed_at_eof(text: &str, file: FileId, o: &Open) -> Error {
         format!("{what} is never closed"),
     )
     .label(format!("{what} opens here"))
-    .note(Span::new(file, end, end), "the file ends before its `}`");
+    .note(end_span, "the file ends before its `}`");
     if let Some((line, col_span, word)) = next_statement(text, o.at) {
         let name = owner.as_deref().unwrap_or("the block");
         err = err

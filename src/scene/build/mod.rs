@@ -553,6 +553,7 @@ impl<'p> Builder<'p> {
         let mut p = self.params("light", block, &params::LIGHT);
         let position = match p.take("position") {
             Some(q) => self.vec3(&q.values[0]).map(|v| v.0),
+            None if p.had_unknown => None,
             None => {
                 self.err(
                     Error::new(kw.span, "a `light` needs a `position`")

@@ -322,7 +322,9 @@ impl Builder<'_> {
         match p.take(name) {
             Some(q) => self.vec3(&q.values[0]).map(|v| v.0),
             None => {
-                self.missing(kw, name, "a 3-vector");
+                if !p.had_unknown {
+                    self.missing(kw, name, "a 3-vector");
+                }
                 None
             }
         }
@@ -346,7 +348,7 @@ impl Builder<'_> {
         match p.take(name) {
             Some(q) => self.positive(&q.values[0]),
             None => {
-                if default.is_none() {
+                if default.is_none() && !p.had_unknown {
                     self.missing(kw, name, "a number greater than 0");
                 }
                 default

@@ -163,6 +163,9 @@ pub struct Child {
 pub struct Params {
     list: Vec<Param>,
     pub children: Vec<Child>,
+    /// Whether an unknown parameter was reported: then "needs `x`" errors
+    /// are held back, as the unknown one is likely `x` misspelt.
+    pub had_unknown: bool,
 }
 
 impl Params {
@@ -297,9 +300,16 @@ pub fn read(
             .label("not a parameter here");
             e = match did_you_mean(&name.node, schema.names()) {
                 Some(h) => e.help(h),
+                None if schema.object && matches!(canon.as_str(), "colour" | "reflect") => {
+                    e.help(format!(
+                        "`{}` belongs in a material: `material {{ {} … }}`",
+                        name.node, name.node
+                    ))
+                }
                 None => e.help(format!("`{owner}` takes: {}", schema.names().join(", "))),
             };
             errors.push(e);
+            out.had_unknown = true;
             // Skip its values, up to the next known parameter.
             while i < items.len() && !starts_param(&items[i]) {
                 i += 1;
