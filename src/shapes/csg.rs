@@ -550,4 +550,84 @@ mod tests {
             .unwrap();
         assert_eq!(h.material, 2);
     }
+
+    /// Renders `objects` with a camera and a light at `eye`, looking along +x.
+    fn render(objects: Vec<Box<dyn Shape>>, eye: DVec3) -> crate::render::Film {
+        use crate::scene::{Camera, Light, Material, Projection, RenderSettings, Scene, Texture};
+        let solid = |r, g, b| Material {
+            texture: Texture::Solid(DVec3::new(r, g, b)),
+            reflect: 0.0,
+        };
+        let scene = Scene {
+            camera: Camera {
+                position: eye,
+                look_at: eye + DVec3::X,
+                up: DVec3::Y,
+                projection: Projection::Fov(60.0),
+            },
+            settings: RenderSettings {
+                width: 24,
+                height: 16,
+                ..RenderSettings::default()
+            },
+            ambient: DVec3::splat(0.1),
+            lights: vec![Light {
+                position: eye,
+                colour: DVec3::ONE,
+            }],
+            materials: vec![
+                Material::default(),
+                solid(1.0, 0.0, 0.0),
+                solid(0.0, 1.0, 0.0),
+            ],
+            objects: Vec::new(),
+        };
+        let world = crate::accel::World::build(objects);
+        let opts = crate::render::RenderOptions { progress: None };
+        crate::render::render(&scene, &world, &opts).unwrap().0
+    }
+
+    #[test]
+    fn rendered_from_inside_a_union_and_a_group() {
+        let two = || {
+            vec![
+                sphere(DVec3::new(-0.5, 0.0, 0.0), 1.0, 1),
+                sphere(DVec3::new(0.5, 0.0, 0.0), 1.0, 2),
+            ]
+        };
+        // Union: every pixel sees the far, green wall, lit by the light
+        // inside (no inner surface casts a shadow).
+        let union = render(vec![Box::new(Csg::new(CsgOp::Union, two()))], DVec3::ZERO);
+        for p in &union.pixels {
+            assert!(p[0] == 0.0 && p[1] > 0.5 && p[2] == 0.0, "{p:?}");
+        }
+        // A group of the same two spheres shows the red sphere's inside.
+        let group = render(two(), DVec3::ZERO);
+        let centre = group.get(12, 8);
+        assert!(centre[0] > 0.5 && centre[1] == 0.0, "{centre:?}");
+    }
+
+    #[test]
+    fn rendered_union_with_itself_is_the_shape() {
+        let lens = || -> Box<dyn Shape> {
+            Box::new(Csg::new(
+                CsgOp::Intersection,
+                vec![
+                    sphere(DVec3::new(0.0, 0.0, 0.6), 1.0, 1),
+                    sphere(DVec3::new(0.0, 0.0, -0.6), 1.0, 2),
+                ],
+            ))
+        };
+        let eye = DVec3::new(-4.0, 0.3, 0.2);
+        let alone = render(vec![lens()], eye);
+        let doubled = render(
+            vec![Box::new(Csg::new(CsgOp::Union, vec![lens(), lens()]))],
+            eye,
+        );
+        assert_eq!(alone.pixels, doubled.pixels);
+        // The lens is seen edge-on: both colours, and background around it.
+        assert!(alone.pixels.iter().any(|p| p[0] > 0.0));
+        assert!(alone.pixels.iter().any(|p| p[1] > 0.0));
+        assert!(alone.pixels.contains(&[0.0; 3]));
+    }
 }
