@@ -51,9 +51,9 @@ struct Flip {
     t: f64,
     child: u32,
     inside: bool,
-    /// The child's crossing, normal already turned to face out of the
-    /// result's solid for a cutter.
-    hit: Hit,
+    /// Index of the child's crossing in [`Scratch::hits`]; a cutter's normal
+    /// there is already reversed to face out of the result.
+    hit: u32,
 }
 
 /// Buffers reused between calls; a pool rather than one buffer because a
@@ -62,7 +62,6 @@ struct Flip {
 struct Scratch {
     hits: Vec<Hit>,
     flips: Vec<Flip>,
-    inside: Vec<bool>,
 }
 
 thread_local! {
@@ -88,6 +87,15 @@ fn same_t(a: f64, b: f64) -> bool {
 fn grazing(n: DVec3, d: DVec3) -> bool {
     let s = n.dot(d);
     s * s <= 1e-18 * n.length_squared() * d.length_squared()
+}
+
+/// How many children are inside, split as the operation needs.
+#[derive(Clone, Copy, Default)]
+struct Count {
+    /// Children that add to the result (all but a difference's cutters).
+    adding: usize,
+    cutting: usize,
+    first: bool,
 }
 
 impl Csg {
@@ -116,35 +124,53 @@ impl Csg {
         }
     }
 
-    /// Whether a child contributes its inside (true) or cuts it away.
+    /// Whether a child contributes its inside (false) or cuts it away.
     fn is_cutter(&self, i: usize) -> bool {
         self.op == CsgOp::Difference && i > 0
     }
 
-    fn combine(&self, inside: &[bool]) -> bool {
+    fn combine(&self, c: Count) -> bool {
         match self.op {
-            CsgOp::Union => inside.iter().any(|&x| x),
-            CsgOp::Intersection => !inside.is_empty() && inside.iter().all(|&x| x),
-            CsgOp::Difference => inside.first() == Some(&true) && !inside[1..].iter().any(|&x| x),
+            CsgOp::Union => c.adding > 0,
+            CsgOp::Intersection => !self.children.is_empty() && c.adding == self.children.len(),
+            CsgOp::Difference => c.first && c.cutting == 0,
         }
     }
 
-    /// Child `i`'s inside flag at t = −∞ and its flips along the line.
-    fn child_flips(&self, i: usize, ray: &Ray, s: &mut Scratch) -> bool {
+    fn count(&self, c: &mut Count, i: usize, inside: bool) {
+        let n = if self.is_cutter(i) {
+            &mut c.cutting
+        } else {
+            &mut c.adding
+        };
+        if inside {
+            *n += 1;
+        } else {
+            *n -= 1;
+        }
+        if i == 0 {
+            c.first = inside;
+        }
+    }
+
+    /// Appends child `i`'s flips along the line to the scratch buffers and
+    /// returns its inside flag at t = −∞. A bounded child whose box misses
+    /// the part of the line in `span` is outside all along that part, so it
+    /// is left out (that is what makes a ray starting beside a big union
+    /// cheap).
+    fn child_flips(&self, i: usize, ray: &Ray, span: (f64, f64), s: &mut Scratch) -> bool {
         let b = &self.child_bounds[i];
-        if b.is_empty()
-            || (b.is_finite() && b.clip(ray, f64::NEG_INFINITY, f64::INFINITY).is_none())
-        {
+        if b.is_empty() || (b.is_finite() && b.clip(ray, span.0, span.1).is_none()) {
             return false;
         }
-        s.hits.clear();
+        let first = s.hits.len();
         self.children[i].crossings(ray, &mut s.hits);
         // A bounded solid cannot contain the far end of a line; an unbounded
         // one (a plane) starts inside when its first crossing leaves.
         let mut inside = if b.is_finite() {
             false
         } else {
-            match s.hits.first() {
+            match s.hits.get(first) {
                 Some(h) if !grazing(h.normal, ray.dir) => h.normal.dot(ray.dir) > 0.0,
                 Some(_) => false,
                 None => self.children[i].encloses(ray.origin),
@@ -152,7 +178,8 @@ impl Csg {
         };
         let start = inside;
         let cutter = self.is_cutter(i);
-        for h in &s.hits {
+        for k in first..s.hits.len() {
+            let h = &mut s.hits[k];
             let now = if grazing(h.normal, ray.dir) {
                 !inside
             } else {
@@ -163,92 +190,124 @@ impl Csg {
                 continue;
             }
             inside = now;
-            let mut hit = *h;
             if cutter {
-                hit.normal = -hit.normal;
+                h.normal = -h.normal;
             }
             s.flips.push(Flip {
                 t: h.t,
                 child: i as u32,
                 inside: now,
-                hit,
+                hit: k as u32,
             });
         }
         start
     }
 
-    /// Appends the result's crossings to `out`.
-    fn sweep(&self, ray: &Ray, out: &mut Vec<Hit>) {
-        with_scratch(|s| {
-            s.flips.clear();
-            s.inside.clear();
-            for i in 0..self.children.len() {
-                let before = s.flips.len();
-                let start = self.child_flips(i, ray, s);
-                s.inside.push(start);
-                // A child that is never inside empties an intersection, and
-                // an empty first child empties a difference.
-                let never = !start && s.flips.len() == before;
-                if never
-                    && (self.op == CsgOp::Intersection || (self.op == CsgOp::Difference && i == 0))
-                {
-                    return;
-                }
+    /// Walks the result's crossings in increasing t, handing each to `emit`
+    /// until it returns true (found what it wanted). Only the crossings
+    /// within `span` are sure to be complete and right.
+    fn sweep(
+        &self,
+        ray: &Ray,
+        span: (f64, f64),
+        s: &mut Scratch,
+        mut emit: impl FnMut(&Hit) -> bool,
+    ) {
+        s.hits.clear();
+        s.flips.clear();
+        let mut count = Count::default();
+        for i in 0..self.children.len() {
+            let before = s.flips.len();
+            let start = self.child_flips(i, ray, span, s);
+            if start {
+                self.count(&mut count, i, true);
             }
-            s.flips.sort_unstable_by(|a, b| a.t.total_cmp(&b.t));
-            let mut state = self.combine(&s.inside);
-            let mut k = 0;
-            while k < s.flips.len() {
-                // Apply every flip at (nearly) the same t, then compare.
-                let t0 = s.flips[k].t;
-                let begin = k;
-                while k < s.flips.len() && same_t(t0, s.flips[k].t) {
-                    let f = s.flips[k];
-                    s.inside[f.child as usize] = f.inside;
-                    k += 1;
-                }
-                let now = self.combine(&s.inside);
-                if now == state {
-                    continue;
-                }
-                state = now;
-                // Report the crossing whose (possibly reversed) normal agrees
-                // with the change: against the ray when entering.
-                let batch = &s.flips[begin..k];
-                let agrees = |f: &&Flip| (f.hit.normal.dot(ray.dir) < 0.0) == now;
-                let f = batch.iter().find(agrees).unwrap_or(&batch[0]);
-                out.push(f.hit);
+            // A child that is never inside empties an intersection, and an
+            // empty first child empties a difference.
+            let never = !start && s.flips.len() == before;
+            if never && (self.op == CsgOp::Intersection || (self.op == CsgOp::Difference && i == 0))
+            {
+                return;
             }
-        })
+        }
+        s.flips.sort_unstable_by(|a, b| a.t.total_cmp(&b.t));
+        let mut state = self.combine(count);
+        let mut k = 0;
+        while k < s.flips.len() {
+            // Apply every flip at (nearly) the same t, then compare.
+            let t0 = s.flips[k].t;
+            let begin = k;
+            while k < s.flips.len() && same_t(t0, s.flips[k].t) {
+                let f = s.flips[k];
+                self.count(&mut count, f.child as usize, f.inside);
+                k += 1;
+            }
+            let now = self.combine(count);
+            if now == state {
+                continue;
+            }
+            state = now;
+            // Report the crossing whose (possibly reversed) normal agrees
+            // with the change: against the ray when entering.
+            let batch = &s.flips[begin..k];
+            let agrees = |f: &&Flip| (s.hits[f.hit as usize].normal.dot(ray.dir) < 0.0) == now;
+            let f = batch.iter().find(agrees).unwrap_or(&batch[0]);
+            if emit(&s.hits[f.hit as usize]) {
+                return;
+            }
+        }
+    }
+
+    /// Whether the line can meet the result within (t_min, t_max) at all.
+    fn may_hit(&self, ray: &Ray, t_min: f64, t_max: f64) -> bool {
+        !self.bounds.is_empty() && self.bounds.clip(ray, t_min, t_max).is_some()
     }
 }
 
 impl Shape for Csg {
     fn intersect(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<Hit> {
-        if self.bounds.is_empty() || self.bounds.clip(ray, t_min, t_max).is_none() {
+        if !self.may_hit(ray, t_min, t_max) {
             return None;
         }
+        let mut found = None;
         with_scratch(|s| {
-            let mut hits = std::mem::take(&mut s.hits);
-            hits.clear();
-            self.sweep(ray, &mut hits);
-            let found = hits.iter().find(|h| h.t > t_min && h.t < t_max).copied();
-            s.hits = hits;
-            found
-        })
+            self.sweep(ray, (t_min, t_max), s, |h| {
+                if h.t >= t_max {
+                    return true;
+                }
+                if h.t > t_min {
+                    found = Some(*h);
+                    return true;
+                }
+                false
+            })
+        });
+        found
+    }
+
+    fn occludes(&self, ray: &Ray, t_min: f64, t_max: f64) -> bool {
+        if !self.may_hit(ray, t_min, t_max) {
+            return false;
+        }
+        // Every surface of the result is some child's surface, so when no
+        // child has a crossing in range (the common shadow ray), neither
+        // does the result, and the sweep is not needed.
+        let near = self.children.iter().zip(&self.child_bounds).any(|(c, b)| {
+            !b.is_empty() && b.clip(ray, t_min, t_max).is_some() && c.occludes(ray, t_min, t_max)
+        });
+        near && self.intersect(ray, t_min, t_max).is_some()
     }
 
     fn crossings(&self, ray: &Ray, out: &mut Vec<Hit>) {
-        if self.bounds.is_empty()
-            || (self.bounds.is_finite()
-                && self
-                    .bounds
-                    .clip(ray, f64::NEG_INFINITY, f64::INFINITY)
-                    .is_none())
-        {
+        if !self.may_hit(ray, f64::NEG_INFINITY, f64::INFINITY) {
             return;
         }
-        self.sweep(ray, out);
+        with_scratch(|s| {
+            self.sweep(ray, (f64::NEG_INFINITY, f64::INFINITY), s, |h| {
+                out.push(*h);
+                false
+            })
+        });
     }
 
     fn bounds(&self) -> Aabb {
