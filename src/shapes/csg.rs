@@ -84,9 +84,9 @@ fn same_t(a: f64, b: f64) -> bool {
 /// A crossing so nearly along the surface that the sign of normal·dir is
 /// noise (the double root of a tangent ray): it flips the inside flag
 /// rather than setting it.
-fn grazing(n: DVec3, d: DVec3) -> bool {
+fn grazing(n: DVec3, d: DVec3, d_len2: f64) -> bool {
     let s = n.dot(d);
-    s * s <= 1e-18 * n.length_squared() * d.length_squared()
+    s * s <= 1e-18 * n.length_squared() * d_len2
 }
 
 /// How many children are inside, split as the operation needs.
@@ -165,13 +165,14 @@ impl Csg {
         }
         let first = s.hits.len();
         self.children[i].crossings(ray, &mut s.hits);
+        let d_len2 = ray.dir.length_squared();
         // A bounded solid cannot contain the far end of a line; an unbounded
         // one (a plane) starts inside when its first crossing leaves.
         let mut inside = if b.is_finite() {
             false
         } else {
             match s.hits.get(first) {
-                Some(h) if !grazing(h.normal, ray.dir) => h.normal.dot(ray.dir) > 0.0,
+                Some(h) if !grazing(h.normal, ray.dir, d_len2) => h.normal.dot(ray.dir) > 0.0,
                 Some(_) => false,
                 None => self.children[i].encloses(ray.origin),
             }
@@ -180,7 +181,7 @@ impl Csg {
         let cutter = self.is_cutter(i);
         for k in first..s.hits.len() {
             let h = &mut s.hits[k];
-            let now = if grazing(h.normal, ray.dir) {
+            let now = if grazing(h.normal, ray.dir, d_len2) {
                 !inside
             } else {
                 h.normal.dot(ray.dir) < 0.0
@@ -475,6 +476,50 @@ mod tests {
                     }
                     assert_eq!(inside_by_crossings(&list, r, t), inside(p), "{op:?} {p:?}");
                 }
+            }
+        }
+    }
+
+    #[test]
+    fn nearest_hit_in_any_window_is_the_first_crossing_there() {
+        // intersect() leaves out children that miss its window; the answer
+        // must still be the whole line's crossing list cut to the window.
+        let shapes = [
+            Csg::new(
+                CsgOp::Union,
+                vec![
+                    sphere(DVec3::ZERO, 1.0, 1),
+                    cube(DVec3::splat(0.5), DVec3::splat(2.0), 2),
+                ],
+            ),
+            Csg::new(
+                CsgOp::Difference,
+                vec![
+                    cube(-DVec3::ONE, DVec3::ONE, 1),
+                    sphere(DVec3::splat(0.8), 0.9, 2),
+                ],
+            ),
+            Csg::new(
+                CsgOp::Intersection,
+                vec![
+                    sphere(DVec3::ZERO, 1.3, 1),
+                    cube(-DVec3::ONE, DVec3::ONE, 2),
+                ],
+            ),
+        ];
+        for s in &shapes {
+            for (k, r) in testing::rays_towards(DVec3::ZERO, 1.5, 300, 67)
+                .iter()
+                .enumerate()
+            {
+                let list = xs(s, r);
+                let lo = 8.0 + (k % 7) as f64 * 0.4;
+                let hi = lo + 0.3 + (k % 5) as f64 * 0.5;
+                let want = list.iter().find(|h| h.t > lo && h.t < hi);
+                let got = s.intersect(r, lo, hi);
+                assert_eq!(got.map(|h| h.t), want.map(|h| h.t), "window {lo}..{hi}");
+                assert_eq!(got.map(|h| h.material), want.map(|h| h.material));
+                assert_eq!(s.occludes(r, lo, hi), want.is_some());
             }
         }
     }
