@@ -1,0 +1,261 @@
+//! Mistakes in scene files. The parser and the builder collect [`Error`]s
+//! (spans, no text); [`Problems`] turns them into miette diagnostics, one per
+//! mistake, each with its own file, so that a mistake in an included file is
+//! shown in that file with the chain of includes that led to it. All the
+//! mistakes of a run are reported together under one headline.
+
+use super::ast::Span;
+use super::source::Sources;
+use miette::{Diagnostic, LabeledSpan, NamedSource, SourceCode};
+use std::fmt;
+use std::sync::Arc;
+
+/// A mistake found while reading or building, before rendering.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Error {
+    pub span: Span,
+    pub message: String,
+    /// Text under the primary span.
+    pub label: String,
+    pub help: Option<String>,
+    /// Secondary spans (e.g. where a block was opened, where a name was
+    /// first defined).
+    pub notes: Vec<(Span, String)>,
+}
+
+impl Error {
+    pub fn new(span: Span, message: impl Into<String>) -> Error {
+        Error {
+            span,
+            message: message.into(),
+            label: "here".into(),
+            help: None,
+            notes: Vec::new(),
+        }
+    }
+
+    pub fn label(mut self, label: impl Into<String>) -> Error {
+        self.label = label.into();
+        self
+    }
+
+    pub fn help(mut self, help: impl Into<String>) -> Error {
+        self.help = Some(help.into());
+        self
+    }
+
+    pub fn maybe_help(mut self, help: Option<String>) -> Error {
+        if help.is_some() {
+            self.help = help;
+        }
+        self
+    }
+
+    pub fn note(mut self, span: Span, text: impl Into<String>) -> Error {
+        self.notes.push((span, text.into()));
+        self
+    }
+}
+
+/// The closest of `candidates` to `name`, if it is close enough to be a
+/// likely misspelling. Case is ignored, and a swap of two neighbouring
+/// letters counts as one edit (`materail` → `material`).
+pub fn closest<'a>(name: &str, candidates: impl IntoIterator<Item = &'a str>) -> Option<&'a str> {
+    let lower = name.to_lowercase();
+    let limit = name.chars().count().div_ceil(3);
+    candidates
+        .into_iter()
+        .filter(|c| *c != name)
+        .map(|c| (strsim::osa_distance(&lower, &c.to_lowercase()), c))
+        .filter(|(d, _)| *d <= limit.max(1))
+        .min_by_key(|(d, c)| (*d, c.len()))
+        .map(|(_, c)| c)
+}
+
+/// `Some("did you mean `x`?")` when a candidate is close.
+pub fn did_you_mean<'a>(
+    name: &str,
+    candidates: impl IntoIterator<Item = &'a str>,
+) -> Option<String> {
+    closest(name, candidates).map(|c| format!("did you mean `{c}`?"))
+}
+
+/// One mistake, ready to render.
+#[derive(Debug)]
+pub struct Problem {
+    message: String,
+    src: Option<NamedSource<Arc<str>>>,
+    labels: Vec<LabeledSpan>,
+    help: Option<String>,
+}
+
+impl fmt::Display for Problem {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.message)
+    }
+}
+
+impl std::error::Error for Problem {}
+
+impl Diagnostic for Problem {
+    fn source_code(&self) -> Option<&dyn SourceCode> {
+        self.src.as_ref().map(|s| s as &dyn SourceCode)
+    }
+
+    fn labels(&self) -> Option<Box<dyn Iterator<Item = LabeledSpan> + '_>> {
+        Some(Box::new(self.labels.iter().cloned()))
+    }
+
+    fn help<'a>(&'a self) -> Option<Box<dyn fmt::Display + 'a>> {
+        self.help
+            .as_ref()
+            .map(|h| Box::new(h) as Box<dyn fmt::Display>)
+    }
+}
+
+impl Problem {
+    pub fn message(&self) -> &str {
+        &self.message
+    }
+
+    fn from_error(sources: &Sources, e: Error) -> Problem {
+        let file = e.span.file;
+        let text = &sources.get(file).text;
+        let clamp = |s: Span| {
+            let a = s.start.min(text.len());
+            (a, s.end.clamp(a, text.len()) - a)
+        };
+        let mut labels = vec![LabeledSpan::new_primary_with_span(
+            Some(e.label),
+            clamp(e.span),
+        )];
+        let mut help: Vec<String> = e.help.into_iter().collect();
+        for (span, note) in e.notes {
+            if span.file == file {
+                labels.push(LabeledSpan::new_with_span(Some(note), clamp(span)));
+            } else {
+                help.push(format!("{note} (at {})", sources.location(span)));
+            }
+        }
+        let mut cur = file;
+        for inc in sources.chain(file) {
+            help.push(format!(
+                "`{}` is included from {}",
+                sources.get(cur).name,
+                sources.location(inc)
+            ));
+            cur = inc.file;
+        }
+        Problem {
+            message: e.message,
+            src: Some(sources.named(file)),
+            labels,
+            help: (!help.is_empty()).then(|| help.join("\n")),
+        }
+    }
+}
+
+/// Every mistake of a run: what `lang::load` and `scene::build` return.
+/// With one mistake it renders as that mistake; with several, under a
+/// headline ("3 errors in scene.rt") with each one as a related diagnostic.
+#[derive(Debug)]
+pub struct Problems {
+    headline: String,
+    problems: Vec<Problem>,
+}
+
+impl Problems {
+    /// `errors` must not be empty. They are shown in file order.
+    pub fn new(sources: &Sources, root: &str, mut errors: Vec<Error>) -> Problems {
+        errors.sort_by_key(|e| (e.span.file, e.span.start));
+        errors.dedup_by(|a, b| a.span == b.span && a.message == b.message);
+        let n = errors.len();
+        let problems: Vec<Problem> = errors
+            .into_iter()
+            .map(|e| Problem::from_error(sources, e))
+            .collect();
+        Problems {
+            headline: format!("{n} errors in {root}"),
+            problems,
+        }
+    }
+
+    /// A problem with no place in a file (the scene file cannot be read).
+    pub fn plain(message: String) -> Problems {
+        Problems {
+            headline: message.clone(),
+            problems: vec![Problem {
+                message,
+                src: None,
+                labels: Vec::new(),
+                help: None,
+            }],
+        }
+    }
+
+    pub fn problems(&self) -> &[Problem] {
+        &self.problems
+    }
+
+    pub fn len(&self) -> usize {
+        self.problems.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.problems.is_empty()
+    }
+
+    fn single(&self) -> Option<&Problem> {
+        match self.problems.as_slice() {
+            [one] => Some(one),
+            _ => None,
+        }
+    }
+}
+
+impl fmt::Display for Problems {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.single() {
+            Some(p) => p.fmt(f),
+            None => f.write_str(&self.headline),
+        }
+    }
+}
+
+impl std::error::Error for Problems {}
+
+impl Diagnostic for Problems {
+    fn source_code(&self) -> Option<&dyn SourceCode> {
+        self.single().and_then(|p| p.source_code())
+    }
+
+    fn labels(&self) -> Option<Box<dyn Iterator<Item = LabeledSpan> + '_>> {
+        self.single().and_then(|p| p.labels())
+    }
+
+    fn help<'a>(&'a self) -> Option<Box<dyn fmt::Display + 'a>> {
+        self.single().and_then(|p| p.help())
+    }
+
+    fn related<'a>(&'a self) -> Option<Box<dyn Iterator<Item = &'a dyn Diagnostic> + 'a>> {
+        if self.single().is_some() {
+            return None;
+        }
+        Some(Box::new(self.problems.iter().map(|p| p as &dyn Diagnostic)))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn suggestions_catch_typos_and_swaps() {
+        let c = ["radius", "material", "centre", "center"];
+        assert_eq!(closest("materail", c), Some("material"));
+        assert_eq!(closest("radus", c), Some("radius"));
+        assert_eq!(closest("Radius", c), Some("radius"));
+        assert_eq!(closest("colour", c), None);
+        assert_eq!(closest("x", ["y", "pi"]), Some("y"));
+    }
+}

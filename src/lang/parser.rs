@@ -1,0 +1,798 @@
+//! Text → items. Three steps: a bracket pass (so that an unclosed `{` is
+//! reported where it was opened, and nesting is capped before the
+//! recursive-descent parser could overflow the stack), pest, then pest's
+//! pairs → [`ast`](super::ast) with precedence climbing for expressions.
+//! pest's errors are reworded here: no rule name reaches the user.
+
+use super::ast::*;
+use super::diagnostics::Error;
+use super::grammar::{RtParser, Rule};
+use pest::Parser;
+use pest::iterators::Pair;
+use pest::pratt_parser::{Assoc, Op, PrattParser};
+use std::sync::LazyLock;
+
+/// How deeply brackets of any kind may nest. Far beyond any real scene, and
+/// low enough that parsing and evaluation stay within a small thread stack.
+pub const MAX_NESTING: usize = 64;
+
+/// How deep one expression tree may be (chains of `^` and unary minus
+/// recurse, and so does a long sum once it is a tree).
+pub const MAX_EXPR_DEPTH: usize = 256;
+
+/// Statement keywords, for the "did you mean to close … before …" hint.
+pub const STATEMENT_KEYWORDS: &[&str] = &[
+    "camera",
+    "render",
+    "ambient",
+    "light",
+    "material",
+    "let",
+    "include",
+    "sphere",
+    "plane",
+    "box",
+    "cylinder",
+    "cone",
+    "disc",
+    "triangle",
+    "rectangle",
+    "torus",
+    "implicit",
+    "mesh",
+    "group",
+    "union",
+    "intersection",
+    "difference",
+];
+
+static PRATT: LazyLock<PrattParser<Rule>> = LazyLock::new(|| {
+    // Later lines bind tighter: unary minus sits between `*` and `^`, so
+    // `-2^2` is −4 and `2^-1` works.
+    PrattParser::new()
+        .op(Op::infix(Rule::add, Assoc::Left) | Op::infix(Rule::sub, Assoc::Left))
+        .op(Op::infix(Rule::mul, Assoc::Left) | Op::infix(Rule::div, Assoc::Left))
+        .op(Op::prefix(Rule::neg))
+        .op(Op::infix(Rule::pow, Assoc::Right))
+});
+
+/// Parses one file's text into its items (includes not yet resolved).
+pub fn parse(text: &str, file: FileId) -> Result<Vec<Item>, Vec<Error>> {
+    let errors = check_brackets(text, file);
+    if !errors.is_empty() {
+        return Err(errors);
+    }
+    pest::set_error_detail(true);
+    let pairs =
+        RtParser::parse(Rule::scene, text).map_err(|e| vec![syntax_error(e, text, file)])?;
+    let mut errors = Vec::new();
+    let mut items = Vec::new();
+    for pair in pairs.flatten().take(1) {
+        for p in pair.into_inner() {
+            if p.as_rule() == Rule::EOI {
+                continue;
+            }
+            match item(p, file) {
+                Ok(i) => items.push(i),
+                Err(e) => errors.push(e),
+            }
+        }
+    }
+    if errors.is_empty() {
+        Ok(items)
+    } else {
+        Err(errors)
+    }
+}
+
+fn span_of(p: &Pair<Rule>, file: FileId) -> Span {
+    let s = p.as_span();
+    Span::new(file, s.start(), s.end())
+}
+
+fn item(p: Pair<Rule>, file: FileId) -> Result<Item, Error> {
+    let span = span_of(&p, file);
+    Ok(match p.as_rule() {
+        Rule::let_stmt => {
+            let mut inner = p.into_inner();
+            let _kw = inner.next();
+            let name = inner.next().expect("grammar: let has a name");
+            let value = inner.next().expect("grammar: let has a value");
+            Item::Let {
+                name: Spanned::new(name.as_str().to_string(), span_of(&name, file)),
+                value: expr(value, file)?,
+                span,
+            }
+        }
+        Rule::include_stmt => {
+            let s = p
+                .into_inner()
+                .nth(1)
+                .expect("grammar: include has a string");
+            let Item::Str {
+                text,
+                span: sspan,
+                content,
+            } = string(s, file)
+            else {
+                unreachable!()
+            };
+            Item::Include {
+                text,
+                span,
+                content,
+                string: sspan,
+            }
+        }
+        Rule::block => {
+            let mut items = Vec::new();
+            for c in p.into_inner() {
+                items.push(item(c, file)?);
+            }
+            Item::Block(Block { items, span })
+        }
+        Rule::list => {
+            let mut v = Vec::new();
+            for c in p.into_inner() {
+                v.push(expr(c, file)?);
+            }
+            Item::List(Spanned::new(v, span))
+        }
+        Rule::string => string(p, file),
+        Rule::expr => Item::Value(expr(p, file)?),
+        r => unreachable!("grammar: unexpected item rule {r:?}"),
+    })
+}
+
+fn string(p: Pair<Rule>, file: FileId) -> Item {
+    let span = span_of(&p, file);
+    let inner = p.into_inner().next().expect("grammar: string has content");
+    Item::Str {
+        text: inner.as_str().to_string(),
+        span,
+        content: span_of(&inner, file),
+    }
+}
+
+type Built = Result<(Expr, usize), Error>;
+
+fn expr(p: Pair<Rule>, file: FileId) -> Result<Expr, Error> {
+    expr_depth(p, file).map(|(e, _)| e)
+}
+
+fn expr_depth(p: Pair<Rule>, file: FileId) -> Built {
+    let span = span_of(&p, file);
+    // The Pratt parser recurses once per prefix and per `^`: cap them
+    // before it runs.
+    let chained = p
+        .clone()
+        .into_inner()
+        .filter(|c| matches!(c.as_rule(), Rule::neg | Rule::pow))
+        .count();
+    if chained > MAX_EXPR_DEPTH {
+        return Err(too_deep(span));
+    }
+    PRATT
+        .map_primary(|p| primary(p, file))
+        .map_prefix(|op, rhs| {
+            let (rhs, d) = rhs?;
+            let span = span_of(&op, file).to(rhs.span);
+            node(
+                Expr {
+                    kind: ExprKind::Neg(Box::new(rhs)),
+                    span,
+                },
+                d,
+            )
+        })
+        .map_infix(|lhs, op, rhs| {
+            let (lhs, dl) = lhs?;
+            let (rhs, dr) = rhs?;
+            let op = match op.as_rule() {
+                Rule::add => BinOp::Add,
+                Rule::sub => BinOp::Sub,
+                Rule::mul => BinOp::Mul,
+                Rule::div => BinOp::Div,
+                Rule::pow => BinOp::Pow,
+                r => unreachable!("grammar: unexpected operator {r:?}"),
+            };
+            let span = lhs.span.to(rhs.span);
+            node(
+                Expr {
+                    kind: ExprKind::Binary {
+                        op,
+                        lhs: Box::new(lhs),
+                        rhs: Box::new(rhs),
+                    },
+                    span,
+                },
+                dl.max(dr),
+            )
+        })
+        .parse(p.into_inner())
+}
+
+fn node(e: Expr, child_depth: usize) -> Built {
+    if child_depth + 1 > MAX_EXPR_DEPTH {
+        return Err(too_deep(e.span));
+    }
+    Ok((e, child_depth + 1))
+}
+
+fn too_deep(span: Span) -> Error {
+    Error::new(span, "this expression is nested too deeply")
+        .label("too deep")
+        .help(format!(
+            "an expression may nest at most {MAX_EXPR_DEPTH} operators deep; split it with `let`"
+        ))
+}
+
+fn primary(p: Pair<Rule>, file: FileId) -> Built {
+    let span = span_of(&p, file);
+    match p.as_rule() {
+        Rule::number => {
+            let mut inner = p.into_inner();
+            let body = inner.next().expect("grammar: number has a body");
+            if let Some(tail) = inner.next() {
+                let at = tail.as_span().start();
+                return Err(Error::new(
+                    Span::new(file, at, at + 1),
+                    format!("`{}` is not a number", p_str(&body, &tail)),
+                )
+                .label("a second decimal point")
+                .help("a number has at most one `.`; separate values with `,` or spaces"));
+            }
+            let v: f64 = body
+                .as_str()
+                .parse()
+                .map_err(|_| Error::new(span, "this is not a number").label("not a number"))?;
+            Ok((
+                Expr {
+                    kind: ExprKind::Number(v),
+                    span,
+                },
+                1,
+            ))
+        }
+        Rule::hex => {
+            let digits = &p.as_str()[1..];
+            let ok = digits.len() == 6 && digits.chars().all(|c| c.is_ascii_hexdigit());
+            if !ok {
+                return Err(
+                    Error::new(span, format!("`{}` is not a colour", p.as_str()))
+                        .label("expected `#` and six hex digits")
+                        .help("write colours as `#rrggbb`, e.g. `#ff8000`"),
+                );
+            }
+            let byte = |i: usize| u8::from_str_radix(&digits[i..i + 2], 16).unwrap_or(0);
+            Ok((
+                Expr {
+                    kind: ExprKind::Hex([byte(0), byte(2), byte(4)]),
+                    span,
+                },
+                1,
+            ))
+        }
+        Rule::ident => Ok((
+            Expr {
+                kind: ExprKind::Name(p.as_str().to_string()),
+                span,
+            },
+            1,
+        )),
+        Rule::paren => {
+            let inner = p.into_inner().next().expect("grammar: paren holds an expr");
+            let (mut e, d) = expr_depth(inner, file)?;
+            // The parentheses belong to the value's extent in messages.
+            e.span = span;
+            Ok((e, d))
+        }
+        Rule::vector => {
+            let mut v = Vec::new();
+            let mut depth = 0;
+            for c in p.into_inner() {
+                let (e, d) = expr_depth(c, file)?;
+                depth = depth.max(d);
+                v.push(e);
+            }
+            node(
+                Expr {
+                    kind: ExprKind::Vector(v),
+                    span,
+                },
+                depth,
+            )
+        }
+        Rule::call => {
+            let mut inner = p.into_inner();
+            let callee = inner.next().expect("grammar: call has a name");
+            let name = Spanned::new(callee.as_str().to_string(), span_of(&callee, file));
+            let mut args = Vec::new();
+            let mut depth = 0;
+            for c in inner {
+                let (e, d) = expr_depth(c, file)?;
+                depth = depth.max(d);
+                args.push(e);
+            }
+            node(
+                Expr {
+                    kind: ExprKind::Call { name, args },
+                    span,
+                },
+                depth,
+            )
+        }
+        Rule::expr => expr_depth(p, file),
+        r => unreachable!("grammar: unexpected primary {r:?}"),
+    }
+}
+
+fn p_str(body: &Pair<Rule>, tail: &Pair<Rule>) -> String {
+    format!("{}{}", body.as_str(), tail.as_str())
+}
+
+// ---- pest errors in our words ----
+
+/// What a grammar rule is called in a message.
+pub fn describe_rule(r: Rule) -> Option<&'static str> {
+    Some(match r {
+        Rule::expr
+        | Rule::number
+        | Rule::num_body
+        | Rule::hex
+        | Rule::vector
+        | Rule::paren
+        | Rule::call
+        | Rule::callee
+        | Rule::neg => "a value",
+        Rule::ident => "a name",
+        Rule::block => "a block `{ … }`",
+        Rule::list => "a list `[ … ]`",
+        Rule::string | Rule::string_inner => "a string",
+        Rule::let_stmt | Rule::kw_let => "`let`",
+        Rule::include_stmt | Rule::kw_include => "`include`",
+        Rule::EOI => "end of file",
+        Rule::exponent => "an exponent",
+        // Operators could always continue a value: naming them is noise.
+        _ => return None,
+    })
+}
+
+fn syntax_error(e: pest::error::Error<Rule>, text: &str, file: FileId) -> Error {
+    use pest::error::{ErrorVariant, InputLocation};
+    let pos = match e.location {
+        InputLocation::Pos(p) => p,
+        InputLocation::Span((a, _)) => a,
+    };
+    let mut expected: Vec<String> = Vec::new();
+    let mut push = |s: String| {
+        if !expected.contains(&s) {
+            expected.push(s);
+        }
+    };
+    if let ErrorVariant::ParsingError { positives, .. } = &e.variant {
+        // A whole item could start here: say so once.
+        let item_rules = [Rule::let_stmt, Rule::block, Rule::expr];
+        if item_rules.iter().all(|r| positives.contains(r)) {
+            push("a name, a value or a block".into());
+        } else {
+            for r in positives {
+                if let Some(d) = describe_rule(*r) {
+                    push(d.into());
+                }
+            }
+        }
+    }
+    if let Some(attempts) = e.parse_attempts()
+        && attempts.max_position == pos
+    {
+        for t in attempts.expected_tokens() {
+            let token = t.to_string();
+            if matches!(token.as_str(), "}" | ")" | "]" | ">" | "," | "=" | "\"") {
+                push(format!("`{token}`"));
+            }
+        }
+    }
+    if let ErrorVariant::CustomError { message } = &e.variant {
+        push(message.clone());
+    }
+    if expected.iter().any(|e| e.starts_with("a value")) {
+        expected.retain(|e| e != "a name");
+    }
+    let (found, len) = found_at(text, pos);
+    let list = match expected.len() {
+        0 => "something else".to_string(),
+        1 => expected[0].clone(),
+        n => format!("{} or {}", expected[..n - 1].join(", "), expected[n - 1]),
+    };
+    Error::new(
+        Span::new(file, pos, pos + len),
+        format!("expected {list}, found {found}"),
+    )
+    .label(format!("expected {list}"))
+}
+
+/// A few words on what is at `pos`, and how many bytes it covers.
+fn found_at(text: &str, pos: usize) -> (String, usize) {
+    let rest = &text[super::source::floor_char_boundary(text, pos)..];
+    let Some(c) = rest.chars().next() else {
+        return ("the end of the file".into(), 0);
+    };
+    if c.is_ascii_alphabetic() || c == '_' {
+        let n = rest
+            .find(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
+            .unwrap_or(rest.len());
+        return (format!("`{}`", &rest[..n]), n);
+    }
+    if c.is_ascii_digit() {
+        let n = rest
+            .find(|c: char| !(c.is_ascii_alphanumeric() || c == '.'))
+            .unwrap_or(rest.len());
+        return (format!("`{}`", &rest[..n]), n);
+    }
+    (format!("`{c}`"), c.len_utf8())
+}
+
+// ---- the bracket pass ----
+
+struct Open {
+    ch: char,
+    at: usize,
+}
+
+fn closer(open: char) -> char {
+    match open {
+        '{' => '}',
+        '(' => ')',
+        '[' => ']',
+        _ => '>',
+    }
+}
+
+/// Matches brackets, skipping comments and strings, so that a block that is
+/// never closed is reported at its `{` with the statement it belongs to,
+/// rather than at the end of the file.
+pub fn check_brackets(text: &str, file: FileId) -> Vec<Error> {
+    let b = text.as_bytes();
+    let mut errors = Vec::new();
+    let mut stack: Vec<Open> = Vec::new();
+    let mut i = 0;
+    while i < b.len() {
+        let c = b[i];
+        match c {
+            b'/' if b.get(i + 1) == Some(&b'/') => {
+                while i < b.len() && b[i] != b'\n' {
+                    i += 1;
+                }
+                continue;
+            }
+            b'/' if b.get(i + 1) == Some(&b'*') => match text[i + 2..].find("*/") {
+                Some(n) => {
+                    i += 2 + n + 2;
+                    continue;
+                }
+                None => {
+                    errors.push(
+                        Error::new(Span::new(file, i, i + 2), "this comment is never closed")
+                            .label("comment starts here")
+                            .help("end a block comment with `*/`"),
+                    );
+                    return errors;
+                }
+            },
+            b'"' => {
+                let end = text[i + 1..].find(['"', '\n']).map(|n| i + 1 + n);
+                match end {
+                    Some(e) if b[e] == b'"' => {
+                        i = e + 1;
+                        continue;
+                    }
+                    _ => {
+                        let e = end.unwrap_or(b.len());
+                        errors.push(
+                            Error::new(Span::new(file, i, e), "this string is not closed")
+                                .label("no closing `\"` on this line")
+                                .help("strings end on the line they start"),
+                        );
+                        i = e;
+                        continue;
+                    }
+                }
+            }
+            b'{' | b'(' | b'[' | b'<' => {
+                stack.push(Open {
+                    ch: c as char,
+                    at: i,
+                });
+                if stack.len() > MAX_NESTING {
+                    errors.push(
+                        Error::new(Span::new(file, i, i + 1), "brackets nest too deeply")
+                            .label(format!("more than {MAX_NESTING} levels deep here"))
+                            .help(format!(
+                                "blocks, vectors, lists and parentheses may nest at most {MAX_NESTING} deep"
+                            )),
+                    );
+                    return errors;
+                }
+            }
+            b'}' | b')' | b']' | b'>' => {
+                let c = c as char;
+                match stack.iter().rposition(|o| closer(o.ch) == c) {
+                    Some(k) => {
+                        // Anything opened after the match and not closed.
+                        for o in stack.drain(k + 1..).rev() {
+                            errors.push(
+                                Error::new(
+                                    Span::new(file, o.at, o.at + 1),
+                                    format!("`{}` is never closed", o.ch),
+                                )
+                                .label(format!("this `{}` needs a `{}`", o.ch, closer(o.ch)))
+                                .note(
+                                    Span::new(file, i, i + 1),
+                                    format!("expected `{}` before this", closer(o.ch)),
+                                ),
+                            );
+                        }
+                        stack.pop();
+                    }
+                    None => errors.push(
+                        Error::new(
+                            Span::new(file, i, i + 1),
+                            format!("unexpected `{c}`: nothing here is open"),
+                        )
+                        .label("nothing to close"),
+                    ),
+                }
+            }
+            _ => {}
+        }
+        i += 1;
+    }
+    for o in stack {
+        errors.push(unclosed_at_eof(text, file, &o));
+    }
+    errors
+}
+
+fn unclosed_at_eof(text: &str, file: FileId, o: &Open) -> Error {
+    // The last character of the file, so the label shows.
+    let end = text.trim_end().len();
+    let end = if end == 0 {
+        0
+    } else {
+        super::source::floor_char_boundary(text, end - 1)
+    };
+    let end_span = Span::new(file, end, text.trim_end().len());
+    if o.ch != '{' {
+        return Error::new(
+            Span::new(file, o.at, o.at + 1),
+            format!("`{}` is never closed", o.ch),
+        )
+        .label(format!("this `{}` needs a `{}`", o.ch, closer(o.ch)))
+        .note(end_span, "the file ends here");
+    }
+    let owner = block_owner(text, o.at);
+    let what = owner
+        .as_deref()
+        .map_or("this block".to_string(), |w| format!("the block of `{w}`"));
+    let mut err = Error::new(
+        Span::new(file, o.at, o.at + 1),
+        format!("{what} is never closed"),
+    )
+    .label(format!("{what} opens here"))
+    .note(end_span, "the file ends before its `}`");
+    if let Some((line, col_span, word)) = next_statement(text, o.at) {
+        let name = owner.as_deref().unwrap_or("the block");
+        err = err
+            .help(format!(
+                "did you mean to close `{name}` before `{word}` on line {line}?"
+            ))
+            .note(
+                Span::new(file, col_span.0, col_span.1),
+                format!("`{word}` starts a new statement"),
+            );
+    } else {
+        err = err.help("add a `}` where the block should end");
+    }
+    err
+}
+
+/// The words before a `{` on its line: `sphere`, `material gold`,
+/// `mesh "x.ply"`.
+fn block_owner(text: &str, brace: usize) -> Option<String> {
+    let line_start = text[..brace].rfind('\n').map_or(0, |n| n + 1);
+    let before = text[line_start..brace].trim();
+    let before = before.rsplit(['{', '}']).next().unwrap_or("").trim();
+    let words: Vec<&str> = before.split_whitespace().collect();
+    match words.as_slice() {
+        [] => None,
+        [.., a, b] if STATEMENT_KEYWORDS.contains(a) => Some(format!("{a} {b}")),
+        [.., b] => Some((*b).to_string()),
+    }
+}
+
+fn indent(line: &str) -> usize {
+    line.len() - line.trim_start().len()
+}
+
+/// The first later line, indented no deeper than the line of the `{`,
+/// that starts with a statement keyword: (line number, span of the word,
+/// the word).
+fn next_statement(text: &str, brace: usize) -> Option<(usize, (usize, usize), String)> {
+    let line_start = text[..brace].rfind('\n').map_or(0, |n| n + 1);
+    let own_indent = indent(&text[line_start..]);
+    let after = text[brace..].find('\n')? + brace + 1;
+    let mut offset = after;
+    let first_line = text[..after].matches('\n').count() + 1;
+    for (line_no, line) in (first_line..).zip(text[after..].split('\n')) {
+        let word: String = line
+            .trim_start()
+            .chars()
+            .take_while(|c| c.is_ascii_alphanumeric() || *c == '_')
+            .collect();
+        if indent(line) <= own_indent && STATEMENT_KEYWORDS.contains(&word.as_str()) {
+            let s = offset + indent(line);
+            return Some((line_no, (s, s + word.len()), word));
+        }
+        offset += line.len() + 1;
+    }
+    None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const F: FileId = FileId(0);
+
+    fn one(src: &str) -> Expr {
+        match parse(src, F).unwrap().pop().unwrap() {
+            Item::Value(e) => e,
+            i => panic!("{i:?}"),
+        }
+    }
+
+    fn show(e: &Expr) -> String {
+        match &e.kind {
+            ExprKind::Number(v) => format!("{v}"),
+            ExprKind::Name(n) => n.clone(),
+            ExprKind::Hex(h) => format!("#{:02x}{:02x}{:02x}", h[0], h[1], h[2]),
+            ExprKind::Vector(v) => {
+                format!("<{}>", v.iter().map(show).collect::<Vec<_>>().join(","))
+            }
+            ExprKind::Call { name, args } => format!(
+                "{}({})",
+                name.node,
+                args.iter().map(show).collect::<Vec<_>>().join(",")
+            ),
+            ExprKind::Neg(e) => format!("(-{})", show(e)),
+            ExprKind::Binary { op, lhs, rhs } => format!("({} {op} {})", show(lhs), show(rhs)),
+        }
+    }
+
+    #[test]
+    fn precedence_and_associativity() {
+        assert_eq!(show(&one("1 + 2 * 3")), "(1 + (2 * 3))");
+        assert_eq!(show(&one("-2^2")), "(-(2 ^ 2))");
+        assert_eq!(show(&one("2^3^2")), "(2 ^ (3 ^ 2))");
+        assert_eq!(show(&one("8 / 2 / 2")), "((8 / 2) / 2)");
+        assert_eq!(show(&one("2 ^ -1")), "(2 ^ (-1))");
+        assert_eq!(show(&one("(1 + 2) * 3")), "((1 + 2) * 3)");
+        assert_eq!(show(&one("-a * b")), "((-a) * b)");
+    }
+
+    #[test]
+    fn vectors_calls_and_colours() {
+        assert_eq!(show(&one("<1, 2 * a, -c>")), "<1,(2 * a),(-c)>");
+        assert_eq!(show(&one("<1, 2>")), "<1,2>");
+        assert_eq!(
+            show(&one("sqrt(2) * rgb(1, 0.5, 0)")),
+            "(sqrt(2) * rgb(1,0.5,0))"
+        );
+        assert_eq!(show(&one("#FF8000")), "#ff8000");
+        assert_eq!(show(&one(".5e1")), "5");
+    }
+
+    #[test]
+    fn a_name_apart_from_its_parenthesis_is_not_a_call() {
+        let items = parse("colour (1)", F).unwrap();
+        assert_eq!(items.len(), 2);
+        assert_eq!(items[0].as_name().unwrap().node, "colour");
+    }
+
+    #[test]
+    fn items_split_on_juxtaposition() {
+        let items = parse(
+            "sphere { centre <0,1,0> radius R/2 material gold rotate x 90 }",
+            F,
+        )
+        .unwrap();
+        let Item::Block(b) = &items[1] else { panic!() };
+        let words: Vec<String> = b
+            .items
+            .iter()
+            .map(|i| match i {
+                Item::Value(e) => show(e),
+                _ => "?".into(),
+            })
+            .collect();
+        assert_eq!(
+            words,
+            [
+                "centre", "<0,1,0>", "radius", "(R / 2)", "material", "gold", "rotate", "x", "90"
+            ]
+        );
+    }
+
+    #[test]
+    fn spans_point_at_the_text() {
+        let src = "let R = 2 * pi";
+        let Item::Let { name, value, .. } = &parse(src, F).unwrap()[0] else {
+            panic!()
+        };
+        assert_eq!(&src[name.span.start..name.span.end], "R");
+        assert_eq!(&src[value.span.start..value.span.end], "2 * pi");
+    }
+
+    #[test]
+    fn second_dot_is_the_error() {
+        let src = "x <0, 1.2.3, 0>";
+        let e = parse(src, F).unwrap_err();
+        assert_eq!(e[0].span.start, 9);
+        assert_eq!(&src[e[0].span.start..e[0].span.end], ".");
+    }
+
+    #[test]
+    fn unclosed_block_names_its_owner_and_the_next_statement() {
+        let src = "sphere { radius 1\n  material gold\n\nplane { }\n";
+        let e = parse(src, F).unwrap_err();
+        assert_eq!(e.len(), 1);
+        assert_eq!(e[0].span.start, 7);
+        assert!(e[0].message.contains("`sphere`"), "{}", e[0].message);
+        assert!(
+            e[0].help
+                .as_deref()
+                .unwrap()
+                .contains("before `plane` on line 4")
+        );
+    }
+
+    #[test]
+    fn deep_nesting_is_an_error_not_a_crash() {
+        let src = "(".repeat(100_000);
+        assert!(
+            parse(&src, F).unwrap_err()[0]
+                .message
+                .contains("too deeply")
+        );
+        let src = format!("let a = {}1", "-".repeat(100_000));
+        assert!(
+            parse(&src, F).unwrap_err()[0]
+                .message
+                .contains("too deeply")
+        );
+        let src = format!("let a = 1{}", "^1".repeat(100_000));
+        assert!(
+            parse(&src, F).unwrap_err()[0]
+                .message
+                .contains("too deeply")
+        );
+        let src = format!("let a = 1{}", "+1".repeat(100_000));
+        assert!(
+            parse(&src, F).unwrap_err()[0]
+                .message
+                .contains("too deeply")
+        );
+    }
+
+    #[test]
+    fn syntax_errors_use_our_words() {
+        let e = parse("let a = ", F).unwrap_err();
+        assert!(
+            e[0].message.starts_with("expected a value"),
+            "{}",
+            e[0].message
+        );
+        assert!(!e[0].message.contains("expr"));
+    }
+}

@@ -1,0 +1,116 @@
+//! Loaded files and the include chains between them. Every span in the AST
+//! names a [`FileId`] here, so that a diagnostic can show the right file,
+//! its line and column, and how it was included.
+
+use super::ast::{FileId, Span};
+use miette::NamedSource;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+/// One loaded file.
+#[derive(Debug)]
+pub struct SourceFile {
+    /// As shown in messages: the path as given for the root, and relative
+    /// to the root's folder for includes where possible.
+    pub name: String,
+    pub path: PathBuf,
+    pub text: Arc<str>,
+    /// The span of the `include "…"` string that loaded this file.
+    pub included_from: Option<Span>,
+}
+
+/// Every file of a program, indexed by [`FileId`]. A file included twice is
+/// loaded twice (each copy has its own include chain).
+#[derive(Debug, Default)]
+pub struct Sources {
+    files: Vec<SourceFile>,
+}
+
+impl Sources {
+    pub fn add(&mut self, file: SourceFile) -> FileId {
+        self.files.push(file);
+        FileId((self.files.len() - 1) as u32)
+    }
+
+    pub fn get(&self, id: FileId) -> &SourceFile {
+        &self.files[id.0 as usize]
+    }
+
+    pub fn len(&self) -> usize {
+        self.files.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.files.is_empty()
+    }
+
+    /// The source for miette: named, so reports print `file:line:col`.
+    pub fn named(&self, id: FileId) -> NamedSource<Arc<str>> {
+        let f = self.get(id);
+        NamedSource::new(&f.name, f.text.clone())
+    }
+
+    /// 1-based line and column (in characters) of a byte offset.
+    pub fn line_col(&self, id: FileId, offset: usize) -> (usize, usize) {
+        line_col(&self.get(id).text, offset)
+    }
+
+    /// `a.rt:3:9`
+    pub fn location(&self, span: Span) -> String {
+        let (l, c) = self.line_col(span.file, span.start);
+        format!("{}:{l}:{c}", self.get(span.file).name)
+    }
+
+    /// The include chain of a file, innermost first: the spans of the
+    /// `include` strings that led to it.
+    pub fn chain(&self, id: FileId) -> Vec<Span> {
+        let mut out = Vec::new();
+        let mut cur = self.get(id).included_from;
+        while let Some(s) = cur {
+            out.push(s);
+            if out.len() > self.files.len() {
+                break; // cannot happen (cycles are refused), but never loop
+            }
+            cur = self.get(s.file).included_from;
+        }
+        out
+    }
+
+    /// The folder a path in this file is relative to.
+    pub fn dir_of(&self, id: FileId) -> PathBuf {
+        self.get(id)
+            .path
+            .parent()
+            .map(Path::to_path_buf)
+            .unwrap_or_default()
+    }
+}
+
+pub fn line_col(text: &str, offset: usize) -> (usize, usize) {
+    let offset = offset.min(text.len());
+    let before = &text[..floor_char_boundary(text, offset)];
+    let line = before.matches('\n').count() + 1;
+    let col = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
+    (line, col)
+}
+
+pub fn floor_char_boundary(text: &str, mut i: usize) -> usize {
+    i = i.min(text.len());
+    while !text.is_char_boundary(i) {
+        i -= 1;
+    }
+    i
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lines_and_columns_are_one_based() {
+        let t = "ab\ncd\n€x";
+        assert_eq!(line_col(t, 0), (1, 1));
+        assert_eq!(line_col(t, 4), (2, 2));
+        assert_eq!(line_col(t, 9), (3, 2));
+    }
+}

@@ -1,0 +1,760 @@
+//! Stage 2, BUILD: the parser's items → a validated [`Scene`].
+//!
+//! The grammar knows no statements; this module reads items against a
+//! schema per block ([`params::Schema`]): which parameter names are valid
+//! there and how many values each takes. That is where unknown names get a
+//! "did you mean", missing values say what was expected, and every
+//! parameter is either used or reported. All mistakes are collected and
+//! reported together.
+//!
+//! Order of work: the `render` block's `gamma` is found first (it decides
+//! how `#rrggbb` and named colours decode), then statements are built in
+//! the order written. Constants and named materials can only be used after
+//! they are defined; using one earlier says where it is defined.
+
+mod eval;
+mod objects;
+mod params;
+
+use super::{
+    Camera, Colour, Light, Material, Projection, RenderSettings, Scene, Texture, Transfer,
+};
+use crate::geometry::DVec3;
+use crate::lang::Program;
+use crate::lang::ast::{Block, Item, Span, Spanned};
+use crate::lang::diagnostics::{Error, Problems, did_you_mean};
+use crate::shapes::MeshData;
+use eval::{Constant, Env, Value};
+use params::{Param, Params, Schema};
+use std::collections::HashMap;
+use std::path::PathBuf;
+use std::sync::Arc;
+
+/// Largest image side accepted from a scene file.
+pub const MAX_IMAGE_SIDE: u32 = 16384;
+/// Largest `max_depth`: deeper reflections than this cannot change a pixel
+/// that is stored in 8 or 16 bits unless every surface is a perfect mirror.
+pub const MAX_DEPTH: u32 = 64;
+
+/// Builds the scene, reporting every mistake of the program at once.
+pub fn build(program: &Program) -> Result<Scene, Problems> {
+    let transfer = find_transfer(&program.items);
+    let mut b = Builder::new(program, transfer);
+    b.top_level(&program.items);
+    if b.errors.is_empty() {
+        Ok(b.scene)
+    } else {
+        Err(program.problems(b.errors))
+    }
+}
+
+struct Builder<'p> {
+    program: &'p Program,
+    env: Env,
+    errors: Vec<Error>,
+    scene: Scene,
+    /// Named materials declared so far.
+    materials: HashMap<String, (super::MaterialId, Span)>,
+    /// Every named material of the program, for "declared later" hints.
+    all_materials: HashMap<String, Span>,
+    /// `camera`, `render`, `ambient`: where each was given (at most once).
+    singletons: HashMap<&'static str, Span>,
+    /// Meshes by canonical path: one file placed many times is read once.
+    meshes: HashMap<PathBuf, Arc<MeshData>>,
+}
+
+impl<'p> Builder<'p> {
+    fn new(program: &'p Program, transfer: Transfer) -> Self {
+        let mut env = Env::new(transfer);
+        let mut all_materials = HashMap::new();
+        for (i, item) in program.items.iter().enumerate() {
+            match item {
+                Item::Let { name, .. } => {
+                    env.all_lets.entry(name.node.clone()).or_insert(name.span);
+                }
+                _ if item.as_name().is_some_and(|n| n.node == "material") => {
+                    if let Some(n) = program.items.get(i + 1).and_then(Item::as_name) {
+                        all_materials.entry(n.node.to_string()).or_insert(n.span);
+                    }
+                }
+                _ => {}
+            }
+        }
+        let settings = RenderSettings {
+            transfer,
+            ..RenderSettings::default()
+        };
+        Builder {
+            program,
+            env,
+            errors: Vec::new(),
+            scene: Scene {
+                camera: Camera::default(),
+                settings,
+                ambient: Colour::ZERO,
+                lights: Vec::new(),
+                materials: vec![Material::default()],
+                objects: Vec::new(),
+            },
+            materials: HashMap::new(),
+            all_materials,
+            singletons: HashMap::new(),
+            meshes: HashMap::new(),
+        }
+    }
+
+    fn err(&mut self, e: Error) {
+        self.errors.push(e);
+    }
+
+    // ---- top level ----
+
+    fn top_level(&mut self, items: &[Item]) {
+        let mut i = 0;
+        while i < items.len() {
+            let item = &items[i];
+            i += 1;
+            if let Item::Let { name, value, .. } = item {
+                self.define(name, value);
+                continue;
+            }
+            let Some(kw) = item.as_name() else {
+                self.err(
+                    Error::new(
+                        item.span(),
+                        format!("expected a statement, found {}", item.describe()),
+                    )
+                    .label("not a statement")
+                    .help("a statement starts with a keyword such as `sphere`, `camera` or `let`"),
+                );
+                continue;
+            };
+            let kw = Spanned::new(kw.node.to_string(), kw.span);
+            match kw.node.as_str() {
+                "camera" | "render" | "light" => {
+                    let Some(block) = self.block_after(&kw, items, &mut i) else {
+                        continue;
+                    };
+                    match kw.node.as_str() {
+                        "camera" => self.camera(&kw, block),
+                        "render" => self.render(&kw, block),
+                        _ => self.light(&kw, block),
+                    }
+                }
+                "ambient" => self.ambient(&kw, items, &mut i),
+                "material" => self.named_material(&kw, items, &mut i),
+                k if objects::is_object(k) => {
+                    let shapes = self.object_statement(&kw, items, &mut i, objects::Ctx::TOP);
+                    self.scene.objects.extend(shapes);
+                }
+                other => {
+                    let help = did_you_mean(other, TOP_KEYWORDS.iter().copied()).unwrap_or_else(|| {
+                        "statements are camera, render, ambient, light, material, let, include and the objects".into()
+                    });
+                    self.err(
+                        Error::new(kw.span, format!("unknown statement `{other}`"))
+                            .label("not a statement")
+                            .help(help),
+                    );
+                    // Skip what belongs to it: values and a block.
+                    while i < items.len() && items[i].as_name().is_none() {
+                        i += 1;
+                    }
+                }
+            }
+        }
+    }
+
+    /// The `{ … }` after a statement keyword.
+    fn block_after<'a>(
+        &mut self,
+        kw: &Spanned<String>,
+        items: &'a [Item],
+        i: &mut usize,
+    ) -> Option<&'a Block> {
+        match items.get(*i) {
+            Some(Item::Block(b)) => {
+                *i += 1;
+                Some(b)
+            }
+            other => {
+                let mut e = Error::new(kw.span, format!("`{}` needs a block `{{ … }}`", kw.node))
+                    .label(format!("expected `{{` after `{}`", kw.node));
+                if let Some(o) = other {
+                    e = e.note(o.span(), format!("found {} instead", o.describe()));
+                }
+                self.err(e);
+                None
+            }
+        }
+    }
+
+    fn once(&mut self, kw: &Spanned<String>, which: &'static str) -> bool {
+        if let Some(first) = self.singletons.get(which) {
+            let first = *first;
+            self.err(
+                Error::new(kw.span, format!("`{which}` is given twice"))
+                    .label("second one")
+                    .note(first, "first one here")
+                    .help(format!("a scene has at most one `{which}`")),
+            );
+            return false;
+        }
+        self.singletons.insert(which, kw.span);
+        true
+    }
+
+    fn define(&mut self, name: &Spanned<String>, value: &crate::lang::ast::Expr) {
+        if eval::is_reserved(&name.node) {
+            self.err(
+                Error::new(name.span, format!("`{}` is a built-in name", name.node))
+                    .label("cannot be redefined")
+                    .help("choose another name for the constant"),
+            );
+            return;
+        }
+        if let Some(c) = self.env.constants.get(&name.node) {
+            let first = c.span;
+            self.err(
+                Error::new(name.span, format!("`{}` is already defined", name.node))
+                    .label("defined again here")
+                    .note(first, "first defined here")
+                    .help("a constant can only be defined once"),
+            );
+            return;
+        }
+        let v = self.env.eval(value, &mut self.errors);
+        self.env.constants.insert(
+            name.node.clone(),
+            Constant {
+                value: v,
+                span: name.span,
+            },
+        );
+    }
+
+    // ---- value helpers: each reports its own mistakes and gives None ----
+
+    fn value(&mut self, item: &Item, expected: &str) -> Option<(Value, Span)> {
+        match item {
+            Item::Value(e) => {
+                let v = self.env.eval(e, &mut self.errors)?;
+                Some((v, e.span))
+            }
+            other => {
+                self.err(
+                    Error::new(
+                        other.span(),
+                        format!("expected {expected}, found {}", other.describe()),
+                    )
+                    .label(format!("expected {expected}")),
+                );
+                None
+            }
+        }
+    }
+
+    fn wrong_kind(&mut self, span: Span, expected: &str, found: &Value, help: Option<&str>) {
+        let mut e = Error::new(span, format!("expected {expected}, found {}", found.kind()))
+            .label(format!("this is {}", found.kind()));
+        if let Some(h) = help {
+            e = e.help(h);
+        }
+        self.err(e);
+    }
+
+    fn number(&mut self, item: &Item) -> Option<(f64, Span)> {
+        match self.value(item, "a number")? {
+            (Value::Number(v), s) => Some((v, s)),
+            (other, s) => {
+                self.wrong_kind(s, "a number", &other, None);
+                None
+            }
+        }
+    }
+
+    fn vec3(&mut self, item: &Item) -> Option<(DVec3, Span)> {
+        match self.value(item, "a 3-vector `<x, y, z>`")? {
+            (Value::Vector(v), s) if v.len() == 3 => Some((DVec3::new(v[0], v[1], v[2]), s)),
+            (other, s) => {
+                let help = match &other {
+                    Value::Vector(v) => Some(if v.len() < 3 {
+                        "a point or direction has three components: `<x, y, z>`"
+                    } else {
+                        "a point or direction has exactly three components"
+                    }),
+                    Value::Number(_) => Some("write a vector as `<x, y, z>`"),
+                    Value::Colour(_) => None,
+                };
+                self.wrong_kind(s, "a 3-vector", &other, help);
+                None
+            }
+        }
+    }
+
+    fn colour(&mut self, item: &Item) -> Option<(Colour, Span)> {
+        match self.value(item, "a colour")? {
+            (Value::Colour(c), s) => Some((c, s)),
+            (other, s) => {
+                let help = match other {
+                    Value::Vector(_) => Some("write a linear colour as `rgb(r, g, b)`"),
+                    _ => Some("a colour is `rgb(r, g, b)`, `#rrggbb` or a name such as `white`"),
+                };
+                self.wrong_kind(s, "a colour", &other, help);
+                None
+            }
+        }
+    }
+
+    /// A number checked by `ok`; `what` completes "must be …".
+    fn checked(&mut self, item: &Item, ok: impl Fn(f64) -> bool, what: &str) -> Option<f64> {
+        let (v, s) = self.number(item)?;
+        if ok(v) {
+            Some(v)
+        } else {
+            self.err(Error::new(s, format!("this must be {what}")).label(format!("this is {v}")));
+            None
+        }
+    }
+
+    fn positive(&mut self, item: &Item) -> Option<f64> {
+        self.checked(item, |v| v > 0.0, "greater than 0")
+    }
+
+    /// A whole number in `lo..=hi`.
+    fn integer(&mut self, item: &Item, lo: u32, hi: u32) -> Option<u32> {
+        let v = self.checked(
+            item,
+            |v| v.fract() == 0.0 && v >= lo as f64 && v <= hi as f64,
+            &format!("a whole number from {lo} to {hi}"),
+        )?;
+        Some(v as u32)
+    }
+
+    /// Reads a block against a schema, reporting unknown, duplicate and
+    /// incomplete parameters.
+    fn params(&mut self, owner: &str, block: &Block, schema: &Schema) -> Params {
+        params::read(owner, block, schema, &self.env, &mut self.errors)
+    }
+
+    /// Reports parameters a handler did not take (none should remain).
+    fn finish(&mut self, owner: &str, p: Params) {
+        for param in p.rest() {
+            self.err(
+                Error::new(
+                    param.name.span,
+                    format!("`{}` has no effect in `{owner}`", param.name.node),
+                )
+                .label("not used"),
+            );
+        }
+    }
+
+    // ---- camera, render, ambient, light ----
+
+    fn camera(&mut self, kw: &Spanned<String>, block: &Block) {
+        if !self.once(kw, "camera") {
+            return;
+        }
+        let p = &mut self.params("camera", block, &params::CAMERA);
+        let mut cam = Camera::default();
+        let position = p.take("position");
+        let look_at = p.take("look_at");
+        let up = p.take("up");
+        let pos = position.as_ref().and_then(|q| self.vec3(&q.values[0]));
+        let at = look_at.as_ref().and_then(|q| self.vec3(&q.values[0]));
+        let upv = up.as_ref().and_then(|q| self.vec3(&q.values[0]));
+        if let Some((v, _)) = pos {
+            cam.position = v;
+        }
+        if let Some((v, _)) = at {
+            cam.look_at = v;
+        }
+        if let Some((v, _)) = upv {
+            cam.up = v;
+        }
+        let fov = p.take("fov");
+        let plane: Vec<Param> = ["distance", "width", "height"]
+            .iter()
+            .filter_map(|n| p.take(n))
+            .collect();
+        if let Some(f) = &fov {
+            if let Some(first) = plane.first() {
+                self.err(
+                    Error::new(first.name.span, "`fov` and the view plane cannot be mixed")
+                        .label("view plane here")
+                        .note(f.name.span, "`fov` here")
+                        .help("give either `fov`, or all of `distance`, `width` and `height`"),
+                );
+            } else if let Some(a) = self.checked(
+                &f.values[0],
+                |a| a > 0.0 && a < 180.0,
+                "an angle between 0 and 180 degrees",
+            ) {
+                cam.projection = Projection::Fov(a);
+            }
+        } else if !plane.is_empty() {
+            if plane.len() < 3 {
+                let given: Vec<&str> = plane.iter().map(|q| q.name.node.as_str()).collect();
+                let missing: Vec<&str> = ["distance", "width", "height"]
+                    .into_iter()
+                    .filter(|n| !given.contains(n))
+                    .collect();
+                self.err(
+                    Error::new(
+                        plane[0].name.span,
+                        format!("the view plane also needs `{}`", missing.join("` and `")),
+                    )
+                    .label("incomplete view plane")
+                    .help("`distance`, `width` and `height` go together"),
+                );
+            } else {
+                let d = self.positive(&plane[0].values[0]);
+                let w = self.positive(&plane[1].values[0]);
+                let h = self.positive(&plane[2].values[0]);
+                if let (Some(distance), Some(width), Some(height)) = (d, w, h) {
+                    cam.projection = Projection::ViewPlane {
+                        distance,
+                        width,
+                        height,
+                    };
+                }
+            }
+        }
+        // The frame: only judge it when every part of it was valid.
+        let parts_ok = [&position, &look_at, &up]
+            .iter()
+            .zip([pos.is_some(), at.is_some(), upv.is_some()])
+            .all(|(given, ok)| given.is_none() || ok);
+        if parts_ok && cam.frame().is_none() {
+            let span_of = |q: &Option<Param>| q.as_ref().map(|q| q.values[0].span());
+            if (cam.look_at - cam.position).length() < 1e-300 {
+                let at = span_of(&look_at).or(span_of(&position)).unwrap_or(kw.span);
+                self.err(
+                    Error::new(at, "the camera looks at its own position")
+                        .label("same point as `position`")
+                        .help("`look_at` must differ from `position`"),
+                );
+            } else {
+                let at = span_of(&up).unwrap_or(kw.span);
+                self.err(
+                    Error::new(at, "`up` is parallel to the view direction")
+                        .label("parallel to `look_at` − `position`")
+                        .help("choose an `up` that is not along the line of sight, e.g. `<0, 1, 0>` or `<0, 0, 1>`"),
+                );
+            }
+        }
+        self.scene.camera = cam;
+        let p = std::mem::take(p);
+        self.finish("camera", p);
+    }
+
+    fn render(&mut self, kw: &Spanned<String>, block: &Block) {
+        if !self.once(kw, "render") {
+            return;
+        }
+        let mut p = self.params("render", block, &params::RENDER);
+        let s = &mut self.scene.settings;
+        let _ = s;
+        if let Some(q) = p.take("width")
+            && let Some(w) = self.integer(&q.values[0], 1, MAX_IMAGE_SIDE)
+        {
+            self.scene.settings.width = w;
+        }
+        if let Some(q) = p.take("height")
+            && let Some(h) = self.integer(&q.values[0], 1, MAX_IMAGE_SIDE)
+        {
+            self.scene.settings.height = h;
+        }
+        if let Some(q) = p.take("max_depth")
+            && let Some(d) = self.integer(&q.values[0], 0, MAX_DEPTH)
+        {
+            self.scene.settings.max_depth = d;
+        }
+        if let Some(q) = p.take("background")
+            && let Some((c, _)) = self.colour(&q.values[0])
+        {
+            self.scene.settings.background = c;
+        }
+        if let Some(q) = p.take("gamma") {
+            // Already applied by `find_transfer`; checked here for mistakes.
+            self.transfer_value(&q.values[0]);
+        }
+        self.finish("render", p);
+    }
+
+    fn transfer_value(&mut self, item: &Item) -> Option<Transfer> {
+        if let Some(n) = item.as_name() {
+            match n.node {
+                "srgb" => return Some(Transfer::Srgb),
+                "linear" => return Some(Transfer::Linear),
+                _ if !self.env.constants.contains_key(n.node) => {
+                    self.err(
+                        Error::new(n.span, format!("unknown transfer curve `{}`", n.node))
+                            .label("expected `srgb`, `linear` or a number")
+                            .maybe_help(did_you_mean(n.node, ["srgb", "linear"])),
+                    );
+                    return None;
+                }
+                _ => {}
+            }
+        }
+        let g = self.checked(
+            item,
+            |g| g > 0.0 && g <= 10.0,
+            "a number from 0 (exclusive) to 10",
+        )?;
+        Some(Transfer::Gamma(g))
+    }
+
+    fn ambient(&mut self, kw: &Spanned<String>, items: &[Item], i: &mut usize) {
+        let first = self.once(kw, "ambient");
+        let Some(c) = items
+            .get(*i)
+            .filter(|it| it.as_name().is_none_or(|n| n.node != "intensity"))
+        else {
+            self.err(
+                Error::new(kw.span, "`ambient` needs a colour")
+                    .label("expected a colour after `ambient`")
+                    .help("e.g. `ambient rgb(1, 1, 1) intensity 0.1`"),
+            );
+            return;
+        };
+        *i += 1;
+        let colour = self.colour(c);
+        let mut intensity = Some(1.0);
+        if items
+            .get(*i)
+            .and_then(Item::as_name)
+            .is_some_and(|n| n.node == "intensity")
+        {
+            let at = items[*i].span();
+            *i += 1;
+            match items.get(*i) {
+                Some(v) if v.as_name().is_none_or(|n| !TOP_KEYWORDS.contains(&n.node)) => {
+                    *i += 1;
+                    intensity = self.checked(v, |x| x >= 0.0, "0 or more");
+                }
+                _ => {
+                    self.err(
+                        Error::new(at, "`intensity` is missing its value")
+                            .label("expected a number after `intensity`"),
+                    );
+                    intensity = None;
+                }
+            }
+        }
+        if let (true, Some((c, _)), Some(k)) = (first, colour, intensity) {
+            self.scene.ambient = c * k;
+        }
+    }
+
+    fn light(&mut self, kw: &Spanned<String>, block: &Block) {
+        let mut p = self.params("light", block, &params::LIGHT);
+        let position = match p.take("position") {
+            Some(q) => self.vec3(&q.values[0]).map(|v| v.0),
+            None if p.had_unknown => None,
+            None => {
+                self.err(
+                    Error::new(kw.span, "a `light` needs a `position`")
+                        .label("no position")
+                        .help("e.g. `light { position <5, 10, 5> }`"),
+                );
+                None
+            }
+        };
+        let colour = match p.take("colour") {
+            Some(q) => self.colour(&q.values[0]).map(|c| c.0),
+            None => Some(Colour::ONE),
+        };
+        let intensity = match p.take("intensity") {
+            Some(q) => self.checked(&q.values[0], |x| x >= 0.0, "0 or more"),
+            None => Some(1.0),
+        };
+        if let (Some(position), Some(colour), Some(k)) = (position, colour, intensity) {
+            self.scene.lights.push(Light {
+                position,
+                colour: colour * k,
+            });
+        }
+        self.finish("light", p);
+    }
+
+    // ---- materials ----
+
+    fn named_material(&mut self, kw: &Spanned<String>, items: &[Item], i: &mut usize) {
+        let Some(name) = items.get(*i).and_then(Item::as_name) else {
+            self.err(
+                Error::new(kw.span, "a `material` statement needs a name and a block")
+                    .label("expected a name after `material`")
+                    .help("e.g. `material gold { colour rgb(1, 0.8, 0.2)  reflect 0.3 }`"),
+            );
+            return;
+        };
+        let name = Spanned::new(name.node.to_string(), name.span);
+        *i += 1;
+        let Some(block) = self.block_after(&name, items, i) else {
+            return;
+        };
+        let m = self.material_block(block);
+        if let Some((_, first)) = self.materials.get(&name.node) {
+            let first = *first;
+            self.err(
+                Error::new(
+                    name.span,
+                    format!("material `{}` is already declared", name.node),
+                )
+                .label("declared again")
+                .note(first, "first declared here"),
+            );
+            return;
+        }
+        let id = self.add_material(m.unwrap_or_default());
+        self.materials.insert(name.node, (id, name.span));
+    }
+
+    fn add_material(&mut self, m: Material) -> super::MaterialId {
+        self.scene.materials.push(m);
+        (self.scene.materials.len() - 1) as super::MaterialId
+    }
+
+    fn material_block(&mut self, block: &Block) -> Option<Material> {
+        let mut p = self.params("material", block, &params::MATERIAL);
+        let mut m = Material::default();
+        let mut ok = true;
+        if let Some(q) = p.take("colour") {
+            match self.texture(&q.values) {
+                Some(t) => m.texture = t,
+                None => ok = false,
+            }
+        }
+        if let Some(q) = p.take("reflect") {
+            match self.checked(
+                &q.values[0],
+                |r| (0.0..=1.0).contains(&r),
+                "between 0 and 1",
+            ) {
+                Some(r) => m.reflect = r,
+                None => ok = false,
+            }
+        }
+        self.finish("material", p);
+        ok.then_some(m)
+    }
+
+    /// The value of `colour`: the one place where textures (`checker { … }`)
+    /// will join plain colours.
+    fn texture(&mut self, values: &[Item]) -> Option<Texture> {
+        self.colour(&values[0]).map(|(c, _)| Texture::Solid(c))
+    }
+
+    /// `material NAME` or `material { … }` inside an object.
+    fn material_value(&mut self, item: &Item) -> Option<super::MaterialId> {
+        if let Item::Block(b) = item {
+            let m = self.material_block(b)?;
+            return Some(self.add_material(m));
+        }
+        let Some(n) = item.as_name() else {
+            self.err(
+                Error::new(
+                    item.span(),
+                    format!("expected a material, found {}", item.describe()),
+                )
+                .label("not a material")
+                .help("give a material's name, or `{ colour …  reflect … }`"),
+            );
+            return None;
+        };
+        if let Some((id, _)) = self.materials.get(n.node) {
+            return Some(*id);
+        }
+        let mut e =
+            Error::new(n.span, format!("unknown material `{}`", n.node)).label("not declared");
+        if let Some(later) = self.all_materials.get(n.node) {
+            e = e
+                .note(*later, "declared here")
+                .help("a material must be declared before it is used; move its declaration up");
+        } else {
+            e = e.maybe_help(did_you_mean(
+                n.node,
+                self.materials.keys().map(String::as_str),
+            ));
+        }
+        self.err(e);
+        None
+    }
+}
+
+/// Statement keywords at the top level (for suggestions).
+const TOP_KEYWORDS: &[&str] = &[
+    "camera",
+    "render",
+    "ambient",
+    "light",
+    "material",
+    "let",
+    "include",
+    "sphere",
+    "plane",
+    "box",
+    "cylinder",
+    "cone",
+    "disc",
+    "triangle",
+    "rectangle",
+    "torus",
+    "implicit",
+    "mesh",
+    "group",
+    "union",
+    "intersection",
+    "difference",
+];
+
+/// The output curve from `render { gamma … }`, found before anything else
+/// is built because it decides what `#rrggbb` and named colours mean.
+/// Mistakes are ignored here: the build reports them in place.
+fn find_transfer(items: &[Item]) -> Transfer {
+    let mut env = Env::new(Transfer::Srgb);
+    let mut quiet = Vec::new();
+    for (i, item) in items.iter().enumerate() {
+        if let Item::Let { name, value, .. } = item {
+            if !env.constants.contains_key(&name.node) {
+                let v = env.eval(value, &mut quiet);
+                env.constants.insert(
+                    name.node.clone(),
+                    Constant {
+                        value: v,
+                        span: name.span,
+                    },
+                );
+            }
+            continue;
+        }
+        if item.as_name().is_none_or(|n| n.node != "render") {
+            continue;
+        }
+        let Some(Item::Block(b)) = items.get(i + 1) else {
+            continue;
+        };
+        let at = b
+            .items
+            .iter()
+            .position(|it| it.as_name().is_some_and(|n| n.node == "gamma"));
+        let Some(v) = at.and_then(|k| b.items.get(k + 1)) else {
+            return Transfer::Srgb;
+        };
+        return match v.as_name().map(|n| n.node) {
+            Some("srgb") => Transfer::Srgb,
+            Some("linear") => Transfer::Linear,
+            _ => match v {
+                Item::Value(e) => match env.eval(e, &mut quiet) {
+                    Some(Value::Number(g)) if g > 0.0 && g <= 10.0 => Transfer::Gamma(g),
+                    _ => Transfer::Srgb,
+                },
+                _ => Transfer::Srgb,
+            },
+        };
+    }
+    Transfer::Srgb
+}

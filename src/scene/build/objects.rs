@@ -1,0 +1,780 @@
+//! Objects and transforms. Each object's transforms compose in the order
+//! written, then the enclosing blocks' transforms follow; the whole chain
+//! becomes one [`Transformed`] wrapper (none when it is the identity).
+//! `group` is flattened into its parent (inside a CSG operation it acts as
+//! a union); CSG children must be solids.
+
+use super::Builder;
+use super::params::{self, Param, Schema, Spec};
+use crate::geometry::{Aabb, DVec3, Transform};
+use crate::implicit::{Equation, ImplicitSurface};
+use crate::lang::ast::{Block, Item, Span, Spanned};
+use crate::lang::diagnostics::{Error, did_you_mean};
+use crate::scene::MaterialId;
+use crate::shapes::{
+    Cone, Csg, CsgOp, Cuboid, Cylinder, Disc, Mesh, MeshData, Plane, Rectangle, Shape, Sphere,
+    Torus, Transformed, Triangle,
+};
+use std::sync::Arc;
+
+pub const OBJECTS: &[&str] = &[
+    "sphere",
+    "plane",
+    "box",
+    "cylinder",
+    "cone",
+    "disc",
+    "triangle",
+    "rectangle",
+    "torus",
+    "implicit",
+    "mesh",
+    "group",
+    "union",
+    "intersection",
+    "difference",
+];
+
+pub fn is_object(name: &str) -> bool {
+    OBJECTS.contains(&name)
+}
+
+/// `implicit "…"` and `mesh "…"` take a string before their block.
+pub fn takes_string(name: &str) -> bool {
+    matches!(name, "implicit" | "mesh")
+}
+
+/// What an object inherits from the blocks around it.
+#[derive(Clone, Copy, Debug)]
+pub struct Ctx {
+    /// The default material (a `group` or CSG's own, or the scene default).
+    pub material: MaterialId,
+    /// The CSG operation the object is inside, if any.
+    pub csg: Option<&'static str>,
+    /// Transforms of the enclosing blocks, applied after the object's own.
+    pub outer: Transform,
+}
+
+impl Ctx {
+    pub const TOP: Ctx = Ctx {
+        material: 0,
+        csg: None,
+        outer: Transform::IDENTITY,
+    };
+}
+
+const fn spec(name: &'static str, arity: usize, expects: &'static str) -> Spec {
+    Spec {
+        name,
+        arity,
+        expects,
+    }
+}
+
+const V3: &str = "a 3-vector";
+const NUM: &str = "a number";
+const MAT: &str = "a material";
+
+fn schema(kind: &str) -> Schema {
+    let own: &'static [Spec] = match kind {
+        "sphere" => const { &[spec("centre", 1, V3), spec("radius", 1, NUM)] },
+        "plane" => const { &[spec("normal", 1, V3), spec("offset", 1, NUM)] },
+        "box" => {
+            const {
+                &[
+                    spec("min", 1, V3),
+                    spec("max", 1, V3),
+                    spec("front", 1, MAT),
+                    spec("back", 1, MAT),
+                    spec("top", 1, MAT),
+                    spec("bottom", 1, MAT),
+                    spec("left", 1, MAT),
+                    spec("right", 1, MAT),
+                ]
+            }
+        }
+        "cylinder" => {
+            const {
+                &[
+                    spec("centre", 1, V3),
+                    spec("radius", 1, NUM),
+                    spec("height", 1, NUM),
+                    spec("open", 0, "nothing"),
+                    spec("top", 1, MAT),
+                    spec("bottom", 1, MAT),
+                ]
+            }
+        }
+        "cone" => {
+            const {
+                &[
+                    spec("centre", 1, V3),
+                    spec("radius", 1, NUM),
+                    spec("top_radius", 1, NUM),
+                    spec("height", 1, NUM),
+                    spec("open", 0, "nothing"),
+                    spec("top", 1, MAT),
+                    spec("bottom", 1, MAT),
+                ]
+            }
+        }
+        "disc" => const { &[spec("centre", 1, V3), spec("radius", 1, NUM)] },
+        "triangle" => const { &[spec("a", 1, V3), spec("b", 1, V3), spec("c", 1, V3)] },
+        "rectangle" => {
+            const {
+                &[
+                    spec("bottom_left", 1, V3),
+                    spec("top_left", 1, V3),
+                    spec("bottom_right", 1, V3),
+                ]
+            }
+        }
+        "torus" => const { &[spec("major", 1, NUM), spec("minor", 1, NUM)] },
+        "implicit" => const { &[spec("bounded_by", 2, "two 3-vectors (the box's corners)")] },
+        "mesh" => const { &[spec("smooth", 0, "nothing"), spec("flat", 0, "nothing")] },
+        _ => &[],
+    };
+    Schema {
+        own,
+        object: true,
+        children: matches!(kind, "group" | "union" | "intersection" | "difference"),
+    }
+}
+
+fn wrap(shape: Box<dyn Shape>, xf: Transform) -> Box<dyn Shape> {
+    if xf.is_identity() {
+        shape
+    } else {
+        Box::new(Transformed::new(shape, xf))
+    }
+}
+
+fn axis_index(name: &str) -> Option<usize> {
+    match name {
+        "x" => Some(0),
+        "y" => Some(1),
+        "z" => Some(2),
+        _ => None,
+    }
+}
+
+impl Builder<'_> {
+    /// An object statement at `items[*i - 1]`: its string (for `implicit`
+    /// and `mesh`) and block follow.
+    pub(super) fn object_statement(
+        &mut self,
+        kw: &Spanned<String>,
+        items: &[Item],
+        i: &mut usize,
+        ctx: Ctx,
+    ) -> Vec<Box<dyn Shape>> {
+        let mut string = None;
+        if takes_string(&kw.node) {
+            match items.get(*i) {
+                Some(s @ Item::Str { .. }) => {
+                    *i += 1;
+                    string = Some(s.clone());
+                }
+                _ => {
+                    let what = if kw.node == "mesh" {
+                        "a file name: `mesh \"bunny.ply\" { … }`"
+                    } else {
+                        "an equation: `implicit \"x^2 + y^2 + z^2 - 1\" { … }`"
+                    };
+                    self.err(
+                        Error::new(kw.span, format!("`{}` needs a string", kw.node))
+                            .label(format!("expected {what}")),
+                    );
+                    return Vec::new();
+                }
+            }
+        }
+        let Some(block) = self.block_after(kw, items, i) else {
+            return Vec::new();
+        };
+        self.object(kw, string.as_ref(), block, ctx)
+    }
+
+    pub(super) fn object(
+        &mut self,
+        kw: &Spanned<String>,
+        string: Option<&Item>,
+        block: &Block,
+        ctx: Ctx,
+    ) -> Vec<Box<dyn Shape>> {
+        let kind = kw.node.as_str();
+        let schema = schema(kind);
+        let mut p = self.params(kind, block, &schema);
+        let mat = match p.take("material") {
+            Some(q) => self.material_value(&q.values[0]).unwrap_or(ctx.material),
+            None => ctx.material,
+        };
+        let own = self.transform(p.take_transforms());
+        let total = own.then(&ctx.outer);
+        let children = std::mem::take(&mut p.children);
+        let out: Vec<Box<dyn Shape>> = match kind {
+            "group" if ctx.csg.is_some() => {
+                // Inside CSG a group is a union of its children.
+                let inner = Ctx {
+                    material: mat,
+                    csg: ctx.csg,
+                    outer: Transform::IDENTITY,
+                };
+                let shapes = self.children(kind, kw, &children, inner);
+                if shapes.is_empty() {
+                    Vec::new()
+                } else {
+                    vec![wrap(Box::new(Csg::new(CsgOp::Union, shapes)), total)]
+                }
+            }
+            "group" => {
+                let inner = Ctx {
+                    material: mat,
+                    csg: None,
+                    outer: total,
+                };
+                self.children(kind, kw, &children, inner)
+            }
+            "union" | "intersection" | "difference" => {
+                let op = match kind {
+                    "union" => CsgOp::Union,
+                    "intersection" => CsgOp::Intersection,
+                    _ => CsgOp::Difference,
+                };
+                let name: &'static str = match op {
+                    CsgOp::Union => "union",
+                    CsgOp::Intersection => "intersection",
+                    CsgOp::Difference => "difference",
+                };
+                let inner = Ctx {
+                    material: mat,
+                    csg: Some(name),
+                    outer: Transform::IDENTITY,
+                };
+                if children.is_empty() {
+                    self.err(
+                        Error::new(kw.span, format!("`{kind}` holds no objects"))
+                            .label("empty")
+                            .help("put the solids to combine inside its block"),
+                    );
+                    Vec::new()
+                } else {
+                    let shapes = self.children(kind, kw, &children, inner);
+                    vec![wrap(Box::new(Csg::new(op, shapes)), total)]
+                }
+            }
+            _ => self
+                .primitive(kind, kw, string, &mut p, mat)
+                .map(|s| wrap(s, total))
+                .into_iter()
+                .collect(),
+        };
+        self.finish(kind, p);
+        out
+    }
+
+    fn children(
+        &mut self,
+        _parent: &str,
+        _kw: &Spanned<String>,
+        children: &[params::Child],
+        ctx: Ctx,
+    ) -> Vec<Box<dyn Shape>> {
+        let mut out = Vec::new();
+        for c in children {
+            let shapes = self.object(&c.kw, c.string.as_ref(), &c.block, ctx);
+            if let Some(op) = ctx.csg {
+                for s in &shapes {
+                    if !s.is_solid() {
+                        self.err(
+                            Error::new(
+                                c.kw.span,
+                                format!(
+                                    "`{}` is an open surface and cannot be used in `{op}`: it has no inside",
+                                    c.kw.node
+                                ),
+                            )
+                            .label("not a solid")
+                            .help("CSG combines solids: sphere, box, cylinder, cone, torus, plane, implicit, or CSG of those"),
+                        );
+                        break;
+                    }
+                }
+            }
+            out.extend(shapes);
+        }
+        out
+    }
+
+    fn vec3_or(&mut self, p: &mut params::Params, name: &str, default: DVec3) -> Option<DVec3> {
+        match p.take(name) {
+            Some(q) => self.vec3(&q.values[0]).map(|v| v.0),
+            None => Some(default),
+        }
+    }
+
+    fn required_vec3(
+        &mut self,
+        p: &mut params::Params,
+        name: &str,
+        kw: &Spanned<String>,
+    ) -> Option<DVec3> {
+        match p.take(name) {
+            Some(q) => self.vec3(&q.values[0]).map(|v| v.0),
+            None => {
+                if !p.had_unknown {
+                    self.missing(kw, name, "a 3-vector");
+                }
+                None
+            }
+        }
+    }
+
+    fn missing(&mut self, kw: &Spanned<String>, name: &str, what: &str) {
+        self.err(
+            Error::new(kw.span, format!("`{}` needs `{name}`", kw.node))
+                .label(format!("no `{name}` given"))
+                .help(format!("add `{name}` followed by {what}")),
+        );
+    }
+
+    fn positive_or(
+        &mut self,
+        p: &mut params::Params,
+        name: &str,
+        default: Option<f64>,
+        kw: &Spanned<String>,
+    ) -> Option<f64> {
+        match p.take(name) {
+            Some(q) => self.positive(&q.values[0]),
+            None => {
+                if default.is_none() && !p.had_unknown {
+                    self.missing(kw, name, "a number greater than 0");
+                }
+                default
+            }
+        }
+    }
+
+    fn face(&mut self, p: &mut params::Params, name: &str, default: MaterialId) -> MaterialId {
+        match p.take(name) {
+            Some(q) => self.material_value(&q.values[0]).unwrap_or(default),
+            None => default,
+        }
+    }
+
+    fn flag(p: &mut params::Params, name: &str) -> Option<Param> {
+        p.take(name)
+    }
+
+    fn primitive(
+        &mut self,
+        kind: &str,
+        kw: &Spanned<String>,
+        string: Option<&Item>,
+        p: &mut params::Params,
+        mat: MaterialId,
+    ) -> Option<Box<dyn Shape>> {
+        Some(match kind {
+            "sphere" => {
+                let c = self.vec3_or(p, "centre", DVec3::ZERO);
+                let r = self.positive_or(p, "radius", Some(1.0), kw);
+                Box::new(Sphere::new(c?, r?, mat))
+            }
+            "plane" => {
+                let n = match p.take("normal") {
+                    Some(q) => match self.vec3(&q.values[0]) {
+                        Some((v, _)) if v.length() > 0.0 => Some(v),
+                        Some((_, s)) => {
+                            self.err(
+                                Error::new(s, "a plane's normal cannot be zero")
+                                    .label("zero vector"),
+                            );
+                            None
+                        }
+                        None => None,
+                    },
+                    None => Some(DVec3::Z),
+                };
+                let d = match p.take("offset") {
+                    Some(q) => self.number(&q.values[0]).map(|v| v.0),
+                    None => Some(0.0),
+                };
+                Box::new(Plane::new(n?, d?, mat))
+            }
+            "box" => {
+                let lo = self.vec3_or(p, "min", DVec3::splat(-1.0));
+                let hi_item = p.take("max");
+                let hi = match &hi_item {
+                    Some(q) => self.vec3(&q.values[0]).map(|v| v.0),
+                    None => Some(DVec3::ONE),
+                };
+                let faces = ["front", "back", "top", "bottom", "left", "right"]
+                    .map(|f| self.face(p, f, mat));
+                let (lo, hi) = (lo?, hi?);
+                if !(lo.cmplt(hi).all()) {
+                    let at = hi_item.map_or(kw.span, |q| q.values[0].span());
+                    self.err(
+                        Error::new(
+                            at,
+                            "a box's `max` must be greater than its `min` on every axis",
+                        )
+                        .label(format!("min {lo}, max {hi}")),
+                    );
+                    return None;
+                }
+                Box::new(Cuboid::new(lo, hi, faces))
+            }
+            "cylinder" | "cone" => {
+                let c = self.vec3_or(p, "centre", DVec3::ZERO);
+                let r = self.positive_or(p, "radius", Some(1.0), kw);
+                let top_r = if kind == "cone" {
+                    match p.take("top_radius") {
+                        Some(q) => self.checked(&q.values[0], |v| v >= 0.0, "0 or more"),
+                        None => Some(0.0),
+                    }
+                } else {
+                    Some(0.0)
+                };
+                let h = self.positive_or(p, "height", Some(1.0), kw);
+                let open = Self::flag(p, "open");
+                let top = p.take("top");
+                let bottom = p.take("bottom");
+                let caps = if let Some(o) = &open {
+                    if let Some(cap) = top.as_ref().or(bottom.as_ref()) {
+                        self.err(
+                            Error::new(cap.name.span, format!("an `open` {kind} has no caps"))
+                                .label("no cap to colour")
+                                .note(o.name.span, "made open here"),
+                        );
+                    }
+                    None
+                } else {
+                    let t = top.map_or(Some(mat), |q| self.material_value(&q.values[0]));
+                    let b = bottom.map_or(Some(mat), |q| self.material_value(&q.values[0]));
+                    Some([t.unwrap_or(mat), b.unwrap_or(mat)])
+                };
+                let (c, r, h, top_r) = (c?, r?, h?, top_r?);
+                if kind == "cone" {
+                    Box::new(Cone::new(c, r, top_r, h, mat, caps))
+                } else {
+                    Box::new(Cylinder::new(c, r, h, mat, caps))
+                }
+            }
+            "disc" => {
+                let c = self.vec3_or(p, "centre", DVec3::ZERO);
+                let r = self.positive_or(p, "radius", Some(1.0), kw);
+                Box::new(Disc::new(c?, r?, mat))
+            }
+            "triangle" => {
+                let a = self.required_vec3(p, "a", kw);
+                let b = self.required_vec3(p, "b", kw);
+                let c = self.required_vec3(p, "c", kw);
+                let (a, b, c) = (a?, b?, c?);
+                if (b - a).cross(c - a).length()
+                    <= 1e-12 * (b - a).length().max((c - a).length()).max(1e-300)
+                {
+                    self.err(
+                        Error::new(kw.span, "this triangle has no area")
+                            .label("its corners are on one line"),
+                    );
+                    return None;
+                }
+                Box::new(Triangle::new(a, b, c, mat))
+            }
+            "rectangle" => {
+                let bl = self.required_vec3(p, "bottom_left", kw);
+                let tl = self.required_vec3(p, "top_left", kw);
+                let br = self.required_vec3(p, "bottom_right", kw);
+                let (bl, tl, br) = (bl?, tl?, br?);
+                if (tl - bl).cross(br - bl).length()
+                    <= 1e-12 * (tl - bl).length().max((br - bl).length()).max(1e-300)
+                {
+                    self.err(
+                        Error::new(kw.span, "this rectangle has no area")
+                            .label("its corners are on one line"),
+                    );
+                    return None;
+                }
+                Box::new(Rectangle::new(bl, tl, br, mat))
+            }
+            "torus" => {
+                let major = self.positive_or(p, "major", None, kw);
+                let minor = self.positive_or(p, "minor", None, kw);
+                Box::new(Torus::new(major?, minor?, mat))
+            }
+            "implicit" => return self.implicit(string?, p, mat),
+            "mesh" => return self.mesh(string?, p, mat),
+            _ => unreachable!("is_object lists every kind"),
+        })
+    }
+
+    fn implicit(
+        &mut self,
+        string: &Item,
+        p: &mut params::Params,
+        mat: MaterialId,
+    ) -> Option<Box<dyn Shape>> {
+        let Item::Str { text, content, .. } = string else {
+            return None;
+        };
+        let bounds = match p.take("bounded_by") {
+            Some(q) => {
+                let a = self.vec3(&q.values[0]);
+                let b = self.vec3(&q.values[1]);
+                let ((a, _), (b, sb)) = (a?, b?);
+                if (a - b).abs().min_element() <= 0.0 {
+                    self.err(
+                        Error::new(q.name.span.to(sb), "`bounded_by` encloses no volume")
+                            .label("the corners share a coordinate"),
+                    );
+                    return None;
+                }
+                Some(Aabb::new(a, b))
+            }
+            None => None,
+        };
+        let env = &self.env;
+        let compiled = Equation::compile(text, &|name| env.number_constant(name));
+        match compiled {
+            Ok(eq) => Some(Box::new(ImplicitSurface::new(eq, bounds, mat))),
+            Err(errs) => {
+                for e in errs {
+                    let start = (content.start + e.span.start).min(content.end);
+                    let end = (content.start + e.span.end).clamp(start, content.end);
+                    let err = Error::new(Span::new(content.file, start, end), e.message.clone())
+                        .label("here")
+                        .maybe_help(e.help.clone());
+                    self.err(err);
+                }
+                None
+            }
+        }
+    }
+
+    fn mesh(
+        &mut self,
+        string: &Item,
+        p: &mut params::Params,
+        mat: MaterialId,
+    ) -> Option<Box<dyn Shape>> {
+        let Item::Str { text, span, .. } = string else {
+            return None;
+        };
+        let smooth = Self::flag(p, "smooth");
+        let flat = Self::flag(p, "flat");
+        if let (Some(s), Some(f)) = (&smooth, &flat) {
+            self.err(
+                Error::new(f.name.span, "a mesh is either `smooth` or `flat`")
+                    .label("flat")
+                    .note(s.name.span, "smooth"),
+            );
+        }
+        let path = self.program.sources.dir_of(span.file).join(text);
+        let Ok(canonical) = path.canonicalize() else {
+            self.err(
+                Error::new(*span, format!("cannot find the mesh file `{text}`"))
+                    .label(format!("looked for {}", path.display()))
+                    .help("a mesh path is relative to the scene file that names it"),
+            );
+            return None;
+        };
+        let data = match self.meshes.get(&canonical) {
+            Some(d) => d.clone(),
+            None => match MeshData::load(&canonical) {
+                Ok(d) => {
+                    let d = Arc::new(d);
+                    self.meshes.insert(canonical, d.clone());
+                    d
+                }
+                Err(e) => {
+                    let mut place = Vec::new();
+                    if let Some(l) = e.line {
+                        place.push(format!("line {l}"));
+                    }
+                    if let Some(el) = &e.element {
+                        place.push(format!("element `{el}`"));
+                    }
+                    let place = if place.is_empty() {
+                        String::new()
+                    } else {
+                        format!(" ({})", place.join(", "))
+                    };
+                    self.err(
+                        Error::new(*span, format!("cannot read the mesh `{text}`{place}"))
+                            .label(e.message.clone()),
+                    );
+                    return None;
+                }
+            },
+        };
+        Some(Box::new(Mesh::new(data, smooth.is_some(), mat)))
+    }
+
+    /// Composes transforms in the order written. Mistakes are reported and
+    /// the faulty step skipped (the build fails anyway).
+    pub(super) fn transform(&mut self, list: Vec<Param>) -> Transform {
+        let mut xf = Transform::IDENTITY;
+        for q in list {
+            if let Some(t) = self.one_transform(&q) {
+                xf = xf.then(&t);
+            }
+        }
+        xf
+    }
+
+    fn axis(&mut self, item: &Item) -> Option<usize> {
+        match item.as_name() {
+            Some(n) => match axis_index(n.node) {
+                Some(a) => Some(a),
+                None => {
+                    self.err(
+                        Error::new(n.span, format!("`{}` is not an axis", n.node))
+                            .label("expected `x`, `y` or `z`")
+                            .maybe_help(did_you_mean(n.node, ["x", "y", "z"])),
+                    );
+                    None
+                }
+            },
+            None => {
+                self.err(
+                    Error::new(
+                        item.span(),
+                        format!("expected an axis, found {}", item.describe()),
+                    )
+                    .label("expected `x`, `y` or `z`"),
+                );
+                None
+            }
+        }
+    }
+
+    fn singular(&mut self, at: Span, what: &str) {
+        self.err(
+            Error::new(at, format!("this {what} is singular"))
+                .label("flattens the object")
+                .help(
+                    "a transform must be invertible: no zero scale factors or degenerate matrices",
+                ),
+        );
+    }
+
+    fn one_transform(&mut self, q: &Param) -> Option<Transform> {
+        let v = &q.values;
+        match q.name.node.as_str() {
+            "translate" => self.vec3(&v[0]).map(|(d, _)| Transform::translate(d)),
+            "rotate" => {
+                let axis = match v[0].as_name().and_then(|n| axis_index(n.node)) {
+                    Some(a) => Some(DVec3::AXES[a]),
+                    None => match self.vec3(&v[0]) {
+                        Some((a, _)) if a.length() > 0.0 => Some(a),
+                        Some((_, s)) => {
+                            self.err(
+                                Error::new(s, "a rotation axis cannot be zero")
+                                    .label("zero vector"),
+                            );
+                            None
+                        }
+                        None => None,
+                    },
+                };
+                let angle = self.number(&v[1]).map(|a| a.0);
+                Transform::rotate(axis?, angle?)
+            }
+            "scale" => {
+                let (s, at) = match self.value(&v[0], "a number or a 3-vector")? {
+                    (super::Value::Number(s), at) => (DVec3::splat(s), at),
+                    (super::Value::Vector(s), at) if s.len() == 3 => {
+                        (DVec3::new(s[0], s[1], s[2]), at)
+                    }
+                    (other, at) => {
+                        self.wrong_kind(at, "a number or a 3-vector", &other, None);
+                        return None;
+                    }
+                };
+                let t = Transform::scale(s);
+                if t.is_none() {
+                    self.singular(at, "scale");
+                }
+                t
+            }
+            "shear" => {
+                let pair = match v[0].as_name() {
+                    Some(n) => {
+                        let b = n.node.as_bytes();
+                        let ok = b.len() == 2 && b[0] != b[1];
+                        let ix = |c: u8| axis_index(std::str::from_utf8(&[c]).unwrap_or(""));
+                        match (
+                            ok,
+                            b.first().and_then(|c| ix(*c)),
+                            b.get(1).and_then(|c| ix(*c)),
+                        ) {
+                            (true, Some(from), Some(to)) => Some((from, to)),
+                            _ => {
+                                self.err(
+                                    Error::new(n.span, format!("`{}` is not a shear", n.node))
+                                        .label("expected xy, xz, yx, yz, zx or zy")
+                                        .help("`shear AB d` moves coordinate B by d times coordinate A")
+                                        .maybe_help(did_you_mean(n.node, ["xy", "xz", "yx", "yz", "zx", "zy"])),
+                                );
+                                None
+                            }
+                        }
+                    }
+                    None => {
+                        self.err(
+                            Error::new(
+                                v[0].span(),
+                                format!("expected a shear such as `xy`, found {}", v[0].describe()),
+                            )
+                            .label("expected xy, xz, yx, yz, zx or zy"),
+                        );
+                        None
+                    }
+                };
+                let d = self.number(&v[1]).map(|d| d.0);
+                let (from, to) = pair?;
+                Some(Transform::shear(from, to, d?))
+            }
+            "mirror" => self.axis(&v[0]).map(Transform::mirror),
+            "matrix" => {
+                let Item::List(list) = &v[0] else {
+                    self.err(
+                        Error::new(
+                            v[0].span(),
+                            format!("expected a list of 12 numbers, found {}", v[0].describe()),
+                        )
+                        .label("expected `[a, b, c, d,  e, f, g, h,  i, j, k, l]`"),
+                    );
+                    return None;
+                };
+                if list.node.len() != 12 {
+                    let n = list.node.len();
+                    self.err(
+                        Error::new(list.span, format!("`matrix` needs 12 numbers, found {n}"))
+                            .label(format!("{n} number{}", if n == 1 { "" } else { "s" }))
+                            .help("write the top three rows of the 4×4 matrix: `[a, b, c, d,  e, f, g, h,  i, j, k, l]`"),
+                    );
+                    return None;
+                }
+                let mut rows = [0.0; 12];
+                let mut ok = true;
+                for (k, e) in list.node.iter().enumerate() {
+                    match self.number(&Item::Value(e.clone())) {
+                        Some((x, _)) => rows[k] = x,
+                        None => ok = false,
+                    }
+                }
+                if !ok {
+                    return None;
+                }
+                let t = Transform::from_rows(rows);
+                if t.is_none() {
+                    self.singular(list.span, "matrix");
+                }
+                t
+            }
+            other => unreachable!("not a transform: {other}"),
+        }
+    }
+}

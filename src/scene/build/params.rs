@@ -1,0 +1,376 @@
+//! Reading a block's items against a schema: parameter name → how many
+//! values, and what they should be. Unknown names get a suggestion from the
+//! names valid *in that block*; a parameter that runs into the next
+//! parameter or the end of the block is "missing its value"; a parameter
+//! given twice is an error (transforms may repeat: they compose).
+
+use super::eval::Env;
+use super::objects;
+use crate::lang::ast::{Block, Item, Span, Spanned};
+use crate::lang::diagnostics::{Error, did_you_mean};
+
+/// One parameter a block accepts.
+#[derive(Debug)]
+pub struct Spec {
+    pub name: &'static str,
+    pub arity: usize,
+    /// What its values should be, for messages ("a number").
+    pub expects: &'static str,
+}
+
+const fn spec(name: &'static str, arity: usize, expects: &'static str) -> Spec {
+    Spec {
+        name,
+        arity,
+        expects,
+    }
+}
+
+/// What a block accepts.
+#[derive(Debug)]
+pub struct Schema {
+    pub own: &'static [Spec],
+    /// Objects accept `material` and the transforms.
+    pub object: bool,
+    /// `group` and the CSG operations hold objects.
+    pub children: bool,
+}
+
+pub const TRANSFORMS: &[Spec] = &[
+    spec("translate", 1, "a 3-vector"),
+    spec(
+        "rotate",
+        2,
+        "an axis (`x`, `y`, `z` or a vector) and an angle in degrees",
+    ),
+    spec("scale", 1, "a number or a 3-vector"),
+    spec(
+        "shear",
+        2,
+        "a pair of axes (`xy`, `xz`, `yx`, `yz`, `zx` or `zy`) and a number",
+    ),
+    spec("mirror", 1, "an axis (`x`, `y` or `z`)"),
+    spec("matrix", 1, "a list of 12 numbers"),
+];
+
+const MATERIAL_PARAM: Spec = spec(
+    "material",
+    1,
+    "a material name or a block `{ colour …  reflect … }`",
+);
+
+pub fn is_transform(name: &str) -> bool {
+    TRANSFORMS.iter().any(|s| s.name == name)
+}
+
+impl Schema {
+    pub fn get(&self, name: &str) -> Option<&'static Spec> {
+        self.own.iter().find(|s| s.name == name).or_else(|| {
+            if !self.object {
+                return None;
+            }
+            if name == "material" {
+                return Some(&MATERIAL_PARAM);
+            }
+            TRANSFORMS.iter().find(|s| s.name == name)
+        })
+    }
+
+    pub fn names(&self) -> Vec<&'static str> {
+        let mut v: Vec<&'static str> = self.own.iter().map(|s| s.name).collect();
+        if self.object {
+            v.push("material");
+            v.extend(TRANSFORMS.iter().map(|s| s.name));
+        }
+        if self.children {
+            v.extend(objects::OBJECTS.iter().copied());
+        }
+        v
+    }
+}
+
+/// `color` and `center` are accepted for `colour` and `centre`.
+pub fn canonical(name: &str) -> &str {
+    match name {
+        "color" => "colour",
+        "center" => "centre",
+        n => n,
+    }
+}
+
+pub const CAMERA: Schema = Schema {
+    own: &[
+        spec("position", 1, "a 3-vector"),
+        spec("look_at", 1, "a 3-vector"),
+        spec("up", 1, "a 3-vector"),
+        spec("fov", 1, "an angle in degrees"),
+        spec("distance", 1, "a number"),
+        spec("width", 1, "a number"),
+        spec("height", 1, "a number"),
+    ],
+    object: false,
+    children: false,
+};
+
+pub const RENDER: Schema = Schema {
+    own: &[
+        spec("width", 1, "a number of pixels"),
+        spec("height", 1, "a number of pixels"),
+        spec("max_depth", 1, "a whole number"),
+        spec("background", 1, "a colour"),
+        spec("gamma", 1, "`srgb`, `linear` or a number"),
+    ],
+    object: false,
+    children: false,
+};
+
+pub const LIGHT: Schema = Schema {
+    own: &[
+        spec("position", 1, "a 3-vector"),
+        spec("colour", 1, "a colour"),
+        spec("intensity", 1, "a number"),
+    ],
+    object: false,
+    children: false,
+};
+
+pub const MATERIAL: Schema = Schema {
+    own: &[
+        spec("colour", 1, "a colour"),
+        spec("reflect", 1, "a number from 0 to 1"),
+    ],
+    object: false,
+    children: false,
+};
+
+/// A parameter as written: its (canonical) name and its values.
+#[derive(Clone, Debug)]
+pub struct Param {
+    pub name: Spanned<String>,
+    pub values: Vec<Item>,
+}
+
+/// An object inside a `group` or CSG block.
+#[derive(Clone, Debug)]
+pub struct Child {
+    pub kw: Spanned<String>,
+    pub string: Option<Item>,
+    pub block: Block,
+}
+
+/// The parameters of one block, in the order written.
+#[derive(Debug, Default)]
+pub struct Params {
+    list: Vec<Param>,
+    pub children: Vec<Child>,
+    /// Whether an unknown parameter was reported: then "needs `x`" errors
+    /// are held back, as the unknown one is likely `x` misspelt.
+    pub had_unknown: bool,
+}
+
+impl Params {
+    /// Takes the parameter (at most one remains of each non-repeating name).
+    pub fn take(&mut self, name: &str) -> Option<Param> {
+        let k = self.list.iter().position(|p| p.name.node == name)?;
+        Some(self.list.remove(k))
+    }
+
+    /// Takes every transform, in the order written.
+    pub fn take_transforms(&mut self) -> Vec<Param> {
+        let (t, rest) = std::mem::take(&mut self.list)
+            .into_iter()
+            .partition(|p| is_transform(&p.name.node));
+        self.list = rest;
+        t
+    }
+
+    /// What no handler took.
+    pub fn rest(self) -> Vec<Param> {
+        self.list
+    }
+}
+
+/// Reads `block` for `owner` (the statement's name, for messages).
+pub fn read(
+    owner: &str,
+    block: &Block,
+    schema: &Schema,
+    env: &Env,
+    errors: &mut Vec<Error>,
+) -> Params {
+    let items = &block.items;
+    let end = Span::new(
+        block.span.file,
+        block.span.end.saturating_sub(1),
+        block.span.end,
+    );
+    let mut out = Params::default();
+    // Whether an item starts the next parameter (so it is not a value).
+    let starts_param = |it: &Item| -> bool {
+        if matches!(it, Item::Let { .. }) {
+            return true;
+        }
+        it.as_name().is_some_and(|n| {
+            let c = canonical(n.node);
+            (schema.get(c).is_some() || (schema.children && objects::is_object(c)))
+                && !env.constants.contains_key(n.node)
+        })
+    };
+    let mut i = 0;
+    while i < items.len() {
+        let item = &items[i];
+        i += 1;
+        if let Item::Let { span, .. } = item {
+            errors.push(
+                Error::new(*span, "`let` is only allowed at the top level")
+                    .label("inside a block")
+                    .help("move the `let` above the statement"),
+            );
+            continue;
+        }
+        let (name, pending) = if let Some(n) = item.as_name() {
+            (Spanned::new(n.node.to_string(), n.span), None)
+        } else if let Item::Value(e) = item
+            && let Some((n, rest)) = e.split_leading_name()
+            && schema.get(canonical(&n.node)).is_some()
+        {
+            (n, Some(Item::Value(rest)))
+        } else {
+            let mut e = Error::new(
+                item.span(),
+                format!(
+                    "expected a parameter of `{owner}`, found {}",
+                    item.describe()
+                ),
+            )
+            .label(format!("unexpected {}", item.describe()));
+            e = match out.list.last() {
+                Some(prev)
+                    if prev
+                        .values
+                        .last()
+                        .is_some_and(|v| v.span().end <= item.span().start) =>
+                {
+                    let spec = schema.get(&prev.name.node);
+                    e.help(format!(
+                        "`{}` takes {}; this is one value too many",
+                        prev.name.node,
+                        spec.map_or("its values", |s| s.expects)
+                    ))
+                }
+                _ => e.help(format!("`{owner}` takes: {}", schema.names().join(", "))),
+            };
+            errors.push(e);
+            continue;
+        };
+        let canon = canonical(&name.node).to_string();
+        if schema.children && objects::is_object(&canon) {
+            let string = if objects::takes_string(&canon) {
+                match items.get(i) {
+                    Some(s @ Item::Str { .. }) => {
+                        i += 1;
+                        Some(s.clone())
+                    }
+                    _ => None,
+                }
+            } else {
+                None
+            };
+            match items.get(i) {
+                Some(Item::Block(b)) => {
+                    i += 1;
+                    out.children.push(Child {
+                        kw: Spanned::new(canon, name.span),
+                        string,
+                        block: b.clone(),
+                    });
+                }
+                _ => errors.push(
+                    Error::new(name.span, format!("`{canon}` needs a block `{{ … }}`"))
+                        .label(format!("expected `{{` after `{canon}`")),
+                ),
+            }
+            continue;
+        }
+        let Some(spec) = schema.get(&canon) else {
+            let mut e = Error::new(
+                name.span,
+                format!("unknown parameter `{}` in `{owner}`", name.node),
+            )
+            .label("not a parameter here");
+            e = match did_you_mean(&name.node, schema.names()) {
+                Some(h) => e.help(h),
+                None if schema.object && matches!(canon.as_str(), "colour" | "reflect") => {
+                    e.help(format!(
+                        "`{}` belongs in a material: `material {{ {} … }}`",
+                        name.node, name.node
+                    ))
+                }
+                None => e.help(format!("`{owner}` takes: {}", schema.names().join(", "))),
+            };
+            errors.push(e);
+            out.had_unknown = true;
+            // Skip its values, up to the next known parameter.
+            while i < items.len() && !starts_param(&items[i]) {
+                i += 1;
+            }
+            continue;
+        };
+        let mut values: Vec<Item> = pending.into_iter().collect();
+        while values.len() < spec.arity && i < items.len() && !starts_param(&items[i]) {
+            values.push(items[i].clone());
+            i += 1;
+        }
+        if values.len() < spec.arity {
+            let found = match items.get(i) {
+                Some(next) => (next.span(), format!("{} starts here", next.describe())),
+                None => (end, "the block ends here".to_string()),
+            };
+            let msg = if spec.arity == 1 || values.is_empty() {
+                format!("`{}` is missing its value", name.node)
+            } else {
+                format!(
+                    "`{}` needs {} values, found {}",
+                    name.node,
+                    spec.arity,
+                    values.len()
+                )
+            };
+            errors.push(
+                Error::new(name.span, msg)
+                    .label(format!("expected {} after this", spec.expects))
+                    .note(found.0, found.1),
+            );
+            continue;
+        }
+        if values.len() > spec.arity {
+            errors.push(
+                Error::new(
+                    values[spec.arity].span(),
+                    format!("`{}` takes no value", name.node),
+                )
+                .label("unexpected value"),
+            );
+            continue;
+        }
+        if !is_transform(&canon)
+            && let Some(first) = out.list.iter().find(|p| p.name.node == canon)
+        {
+            errors.push(
+                Error::new(
+                    name.span,
+                    format!("`{}` is given twice in `{owner}`", name.node),
+                )
+                .label("given again here")
+                .note(first.name.span, "first given here")
+                .help("remove one of them"),
+            );
+            continue;
+        }
+        out.list.push(Param {
+            name: Spanned::new(canon, name.span),
+            values,
+        });
+    }
+    out
+}
