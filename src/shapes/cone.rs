@@ -211,15 +211,22 @@ impl Frustum {
     fn sorted(&self, ray: &Ray) -> ([(f64, Surface); 4], usize) {
         let mut c = [(0.0, Surface::Side); 4];
         let n = self.candidates(ray, &mut c);
-        let xs = &mut c[..n];
-        xs.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
         if self.caps.is_some() {
             if n < 2 {
                 return (c, 0);
             }
-            c[1] = c[n - 1];
-            return (c, 2);
+            let (mut lo, mut hi) = (c[0], c[0]);
+            for &x in &c[1..n] {
+                if x.0 < lo.0 {
+                    lo = x;
+                }
+                if x.0 > hi.0 {
+                    hi = x;
+                }
+            }
+            return ([lo, hi, lo, hi], 2);
         }
+        // A tube has at most the two side roots, already in order.
         (c, n)
     }
 

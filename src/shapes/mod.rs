@@ -75,6 +75,14 @@ pub trait Shape: Send + Sync + std::fmt::Debug {
 
     /// Whether the shape encloses a volume (so CSG may use it).
     fn is_solid(&self) -> bool;
+
+    /// Whether `p` lies inside the solid. CSG asks this only of an unbounded
+    /// shape whose crossings a line has none of (a ray parallel to a plane),
+    /// to learn whether the whole line is inside; a bounded shape never
+    /// needs it, so the default says no.
+    fn encloses(&self, _p: DVec3) -> bool {
+        false
+    }
 }
 
 /// Solves a·t² + b·t + c = 0 (a ≠ 0) without cancellation: the root of the
@@ -193,7 +201,7 @@ pub(crate) mod testing {
         for r in rays {
             let mut xs = Vec::new();
             shape.crossings(r, &mut xs);
-            assert!(xs.len() % 2 == 0, "odd crossings {xs:?}");
+            assert!(xs.len().is_multiple_of(2), "odd crossings {xs:?}");
             for (i, h) in xs.iter().enumerate() {
                 let entering = h.normal.dot(r.dir) < 0.0;
                 assert_eq!(entering, i % 2 == 0, "crossing {i} of {xs:?}");
