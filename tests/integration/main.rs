@@ -6,3 +6,4 @@ mod examples;
 mod lang;
 mod render;
 mod support;
+mod textures;
