@@ -11,7 +11,7 @@ pub fn globe_image() -> image::RgbImage {
         let u = (x as f64 + 0.5) / 256.0;
         let v = 1.0 - (y as f64 + 0.5) / 128.0;
         let (lon, lat) = (u * std::f64::consts::TAU, (v - 0.5) * std::f64::consts::PI);
-        if v > 0.9 || v < 0.08 {
+        if !(0.08..=0.9).contains(&v) {
             return image::Rgb([240, 245, 250]);
         }
         if x < 3 {
