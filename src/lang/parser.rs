@@ -62,9 +62,14 @@ pub fn parse(text: &str, file: FileId) -> Result<Vec<Item>, Vec<Error>> {
     if !errors.is_empty() {
         return Err(errors);
     }
-    pest::set_error_detail(true);
-    let pairs =
-        RtParser::parse(Rule::scene, text).map_err(|e| vec![syntax_error(e, text, file)])?;
+    let pairs = RtParser::parse(Rule::scene, text).map_err(|first| {
+        // Tracking the tokens pest tried slows every parse; only a failed
+        // one needs them, for "expected `,` or `>`".
+        pest::set_error_detail(true);
+        let detailed = RtParser::parse(Rule::scene, text).err();
+        pest::set_error_detail(false);
+        vec![syntax_error(detailed.unwrap_or(first), text, file)]
+    })?;
     let mut errors = Vec::new();
     let mut items = Vec::new();
     for pair in pairs.flatten().take(1) {
