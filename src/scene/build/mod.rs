@@ -657,7 +657,17 @@ impl<'p> Builder<'p> {
 
     /// The value of `colour`: the one place where textures (`checker { … }`)
     /// will join plain colours.
+    /// `values` is one colour, or a texture's name and its block.
     fn texture(&mut self, values: &[Item]) -> Option<Texture> {
+        if let [name, Item::Block(_)] = values {
+            let n = name.as_name()?;
+            self.err(
+                Error::new(n.span, format!("unknown texture `{}`", n.node))
+                    .label("not a texture")
+                    .help("`colour` takes a colour: `rgb(r, g, b)`, `#rrggbb` or a name such as `white`"),
+            );
+            return None;
+        }
         self.colour(&values[0]).map(|(c, _)| Texture::Solid(c))
     }
 

@@ -89,6 +89,10 @@ impl Schema {
     }
 }
 
+/// Parameters whose value may be a name followed by a block, like a
+/// texture: `colour checker { a white  b black }`.
+pub const BLOCK_VALUES: &[&str] = &["colour"];
+
 /// `color` and `center` are accepted for `colour` and `centre`.
 pub fn canonical(name: &str) -> &str {
     match name {
@@ -319,6 +323,15 @@ pub fn read(
         let mut values: Vec<Item> = pending.into_iter().collect();
         while values.len() < spec.arity && i < items.len() && !starts_param(&items[i]) {
             values.push(items[i].clone());
+            i += 1;
+        }
+        // A value made by a name and a block (`colour checker { … }`) keeps
+        // its block with it.
+        if BLOCK_VALUES.contains(&spec.name)
+            && values.last().is_some_and(|v| v.as_name().is_some())
+            && let Some(b @ Item::Block(_)) = items.get(i)
+        {
+            values.push(b.clone());
             i += 1;
         }
         if values.len() < spec.arity {
