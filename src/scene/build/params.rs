@@ -356,7 +356,7 @@ pub fn read(
             );
             continue;
         }
-        if values.len() > spec.arity {
+        if spec.arity == 0 && !values.is_empty() {
             errors.push(
                 Error::new(
                     values[spec.arity].span(),
