@@ -508,3 +508,43 @@ fn a_texture_value_keeps_its_block() {
         ["unknown texture `checker`"]
     );
 }
+
+#[test]
+fn includes_inside_blocks_add_to_the_block() {
+    let f = Files::new();
+    f.write(
+        "balls.rt",
+        "sphere { translate <1, 0, 0> }\nsphere { translate <2, 0, 0> }",
+    );
+    let p = f.write(
+        "scene.rt",
+        "group { include \"balls.rt\"  translate <0, 5, 0> }",
+    );
+    let s = try_build(&p).unwrap();
+    assert_eq!(s.objects.len(), 2);
+    assert!(close(centre_of(&s, 1), DVec3::new(2.0, 5.0, 0.0)));
+    assert_eq!(
+        errors("sphere { let r = 1 }"),
+        ["`let` is only allowed at the top level"]
+    );
+}
+
+#[test]
+fn mesh_files_are_found_relative_to_the_scene_and_errors_name_them() {
+    let f = Files::new();
+    f.write(
+        "models/bad.ply",
+        "ply\nformat ascii 1.0\nelement vertex 3\nend_header\n1 2\n",
+    );
+    let p = f.write(
+        "scenes/scene.rt",
+        "mesh \"../models/bad.ply\" { flat }\nmesh \"gone.ply\" { }",
+    );
+    let e = try_build(&p).unwrap_err();
+    assert_eq!(e.len(), 2, "{e:?}");
+    assert!(
+        e[0].starts_with("cannot read the mesh `../models/bad.ply`"),
+        "{e:?}"
+    );
+    assert_eq!(e[1], "cannot find the mesh file `gone.ply`");
+}
