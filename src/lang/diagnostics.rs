@@ -121,9 +121,12 @@ impl Problem {
     fn from_error(sources: &Sources, e: Error) -> Problem {
         let file = e.span.file;
         let text = &sources.get(file).text;
+        // Spans from other parts (equation errors) are clamped to the file
+        // and to character boundaries: miette slices the text with them.
         let clamp = |s: Span| {
-            let a = s.start.min(text.len());
-            (a, s.end.clamp(a, text.len()) - a)
+            let a = super::source::floor_char_boundary(text, s.start);
+            let b = super::source::floor_char_boundary(text, s.end.max(a));
+            (a, b - a)
         };
         let mut labels = vec![LabeledSpan::new_primary_with_span(
             Some(e.label),
@@ -137,14 +140,14 @@ impl Problem {
                 help.push(format!("{note} (at {})", sources.location(span)));
             }
         }
-        let mut cur = file;
-        for inc in sources.chain(file) {
-            help.push(format!(
-                "`{}` is included from {}",
-                sources.get(cur).name,
-                sources.location(inc)
-            ));
-            cur = inc.file;
+        // The header names the file; the chain says how it was reached.
+        for (k, inc) in sources.chain(file).into_iter().enumerate() {
+            let step = if k == 0 {
+                "included from"
+            } else {
+                "which is included from"
+            };
+            help.push(format!("{step} {}", sources.location(inc)));
         }
         Problem {
             message: e.message,

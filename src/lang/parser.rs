@@ -62,21 +62,38 @@ pub fn parse(text: &str, file: FileId) -> Result<Vec<Item>, Vec<Error>> {
     if !errors.is_empty() {
         return Err(errors);
     }
-    pest::set_error_detail(true);
-    let pairs =
-        RtParser::parse(Rule::scene, text).map_err(|e| vec![syntax_error(e, text, file)])?;
-    let mut errors = Vec::new();
+    // One top-level item at a time: pest keeps every token of a parse in
+    // memory, which for a whole file of 100k objects is hundreds of MB.
     let mut items = Vec::new();
-    for pair in pairs.flatten().take(1) {
-        for p in pair.into_inner() {
-            if p.as_rule() == Rule::EOI {
-                continue;
+    let mut errors = Vec::new();
+    let mut pos = 0;
+    while pos <= text.len() {
+        let rest = &text[pos..];
+        let at = Loc { file, offset: pos };
+        let mut pairs = match RtParser::parse(Rule::next_item, rest) {
+            Ok(p) => p,
+            Err(first) => {
+                // Tracking the tokens pest tried slows every parse; only a
+                // failed one needs them, for "expected `,` or `>`".
+                pest::set_error_detail(true);
+                let detailed = RtParser::parse(Rule::next_item, rest).err();
+                pest::set_error_detail(false);
+                errors.push(syntax_error(detailed.unwrap_or(first), rest, at));
+                break;
             }
-            match item(p, file) {
-                Ok(i) => items.push(i),
-                Err(e) => errors.push(e),
-            }
+        };
+        let Some(p) = pairs.next().and_then(|top| top.into_inner().next()) else {
+            break;
+        };
+        if p.as_rule() == Rule::EOI {
+            break;
         }
+        let end = p.as_span().end();
+        match item(p, at) {
+            Ok(i) => items.push(i),
+            Err(e) => errors.push(e),
+        }
+        pos += end.max(1);
     }
     if errors.is_empty() {
         Ok(items)
@@ -85,13 +102,27 @@ pub fn parse(text: &str, file: FileId) -> Result<Vec<Item>, Vec<Error>> {
     }
 }
 
-fn span_of(p: &Pair<Rule>, file: FileId) -> Span {
-    let s = p.as_span();
-    Span::new(file, s.start(), s.end())
+/// Where a piece of text being parsed sits: its file, and the byte offset
+/// of the parsed slice in it (top-level items are parsed one at a time).
+#[derive(Clone, Copy, Debug)]
+struct Loc {
+    file: FileId,
+    offset: usize,
 }
 
-fn item(p: Pair<Rule>, file: FileId) -> Result<Item, Error> {
-    let span = span_of(&p, file);
+impl Loc {
+    fn span(&self, start: usize, end: usize) -> Span {
+        Span::new(self.file, self.offset + start, self.offset + end)
+    }
+}
+
+fn span_of(p: &Pair<Rule>, at: Loc) -> Span {
+    let s = p.as_span();
+    at.span(s.start(), s.end())
+}
+
+fn item(p: Pair<Rule>, at: Loc) -> Result<Item, Error> {
+    let span = span_of(&p, at);
     Ok(match p.as_rule() {
         Rule::let_stmt => {
             let mut inner = p.into_inner();
@@ -99,8 +130,8 @@ fn item(p: Pair<Rule>, file: FileId) -> Result<Item, Error> {
             let name = inner.next().expect("grammar: let has a name");
             let value = inner.next().expect("grammar: let has a value");
             Item::Let {
-                name: Spanned::new(name.as_str().to_string(), span_of(&name, file)),
-                value: expr(value, file)?,
+                name: Spanned::new(name.as_str().to_string(), span_of(&name, at)),
+                value: expr(value, at)?,
                 span,
             }
         }
@@ -113,7 +144,7 @@ fn item(p: Pair<Rule>, file: FileId) -> Result<Item, Error> {
                 text,
                 span: sspan,
                 content,
-            } = string(s, file)
+            } = string(s, at)
             else {
                 unreachable!()
             };
@@ -127,41 +158,41 @@ fn item(p: Pair<Rule>, file: FileId) -> Result<Item, Error> {
         Rule::block => {
             let mut items = Vec::new();
             for c in p.into_inner() {
-                items.push(item(c, file)?);
+                items.push(item(c, at)?);
             }
             Item::Block(Block { items, span })
         }
         Rule::list => {
             let mut v = Vec::new();
             for c in p.into_inner() {
-                v.push(expr(c, file)?);
+                v.push(expr(c, at)?);
             }
             Item::List(Spanned::new(v, span))
         }
-        Rule::string => string(p, file),
-        Rule::expr => Item::Value(expr(p, file)?),
+        Rule::string => string(p, at),
+        Rule::expr => Item::Value(expr(p, at)?),
         r => unreachable!("grammar: unexpected item rule {r:?}"),
     })
 }
 
-fn string(p: Pair<Rule>, file: FileId) -> Item {
-    let span = span_of(&p, file);
+fn string(p: Pair<Rule>, at: Loc) -> Item {
+    let span = span_of(&p, at);
     let inner = p.into_inner().next().expect("grammar: string has content");
     Item::Str {
         text: inner.as_str().to_string(),
         span,
-        content: span_of(&inner, file),
+        content: span_of(&inner, at),
     }
 }
 
 type Built = Result<(Expr, usize), Error>;
 
-fn expr(p: Pair<Rule>, file: FileId) -> Result<Expr, Error> {
-    expr_depth(p, file).map(|(e, _)| e)
+fn expr(p: Pair<Rule>, at: Loc) -> Result<Expr, Error> {
+    expr_depth(p, at).map(|(e, _)| e)
 }
 
-fn expr_depth(p: Pair<Rule>, file: FileId) -> Built {
-    let span = span_of(&p, file);
+fn expr_depth(p: Pair<Rule>, at: Loc) -> Built {
+    let span = span_of(&p, at);
     // The Pratt parser recurses once per prefix and per `^`: cap them
     // before it runs.
     let chained = p
@@ -173,10 +204,10 @@ fn expr_depth(p: Pair<Rule>, file: FileId) -> Built {
         return Err(too_deep(span));
     }
     PRATT
-        .map_primary(|p| primary(p, file))
+        .map_primary(|p| primary(p, at))
         .map_prefix(|op, rhs| {
             let (rhs, d) = rhs?;
-            let span = span_of(&op, file).to(rhs.span);
+            let span = span_of(&op, at).to(rhs.span);
             node(
                 Expr {
                     kind: ExprKind::Neg(Box::new(rhs)),
@@ -227,16 +258,16 @@ fn too_deep(span: Span) -> Error {
         ))
 }
 
-fn primary(p: Pair<Rule>, file: FileId) -> Built {
-    let span = span_of(&p, file);
+fn primary(p: Pair<Rule>, at: Loc) -> Built {
+    let span = span_of(&p, at);
     match p.as_rule() {
         Rule::number => {
             let mut inner = p.into_inner();
             let body = inner.next().expect("grammar: number has a body");
             if let Some(tail) = inner.next() {
-                let at = tail.as_span().start();
+                let dot = tail.as_span().start();
                 return Err(Error::new(
-                    Span::new(file, at, at + 1),
+                    at.span(dot, dot + 1),
                     format!("`{}` is not a number", p_str(&body, &tail)),
                 )
                 .label("a second decimal point")
@@ -282,7 +313,7 @@ fn primary(p: Pair<Rule>, file: FileId) -> Built {
         )),
         Rule::paren => {
             let inner = p.into_inner().next().expect("grammar: paren holds an expr");
-            let (mut e, d) = expr_depth(inner, file)?;
+            let (mut e, d) = expr_depth(inner, at)?;
             // The parentheses belong to the value's extent in messages.
             e.span = span;
             Ok((e, d))
@@ -291,7 +322,7 @@ fn primary(p: Pair<Rule>, file: FileId) -> Built {
             let mut v = Vec::new();
             let mut depth = 0;
             for c in p.into_inner() {
-                let (e, d) = expr_depth(c, file)?;
+                let (e, d) = expr_depth(c, at)?;
                 depth = depth.max(d);
                 v.push(e);
             }
@@ -306,11 +337,11 @@ fn primary(p: Pair<Rule>, file: FileId) -> Built {
         Rule::call => {
             let mut inner = p.into_inner();
             let callee = inner.next().expect("grammar: call has a name");
-            let name = Spanned::new(callee.as_str().to_string(), span_of(&callee, file));
+            let name = Spanned::new(callee.as_str().to_string(), span_of(&callee, at));
             let mut args = Vec::new();
             let mut depth = 0;
             for c in inner {
-                let (e, d) = expr_depth(c, file)?;
+                let (e, d) = expr_depth(c, at)?;
                 depth = depth.max(d);
                 args.push(e);
             }
@@ -322,7 +353,7 @@ fn primary(p: Pair<Rule>, file: FileId) -> Built {
                 depth,
             )
         }
-        Rule::expr => expr_depth(p, file),
+        Rule::expr => expr_depth(p, at),
         r => unreachable!("grammar: unexpected primary {r:?}"),
     }
 }
@@ -358,7 +389,7 @@ pub fn describe_rule(r: Rule) -> Option<&'static str> {
     })
 }
 
-fn syntax_error(e: pest::error::Error<Rule>, text: &str, file: FileId) -> Error {
+fn syntax_error(e: pest::error::Error<Rule>, text: &str, at: Loc) -> Error {
     use pest::error::{ErrorVariant, InputLocation};
     let pos = match e.location {
         InputLocation::Pos(p) => p,
@@ -388,7 +419,7 @@ fn syntax_error(e: pest::error::Error<Rule>, text: &str, file: FileId) -> Error 
     {
         for t in attempts.expected_tokens() {
             let token = t.to_string();
-            if matches!(token.as_str(), "}" | ")" | "]" | ">" | "," | "=" | "\"") {
+            if matches!(token.as_str(), "}" | ")" | "]" | ">" | "," | "=") {
                 push(format!("`{token}`"));
             }
         }
@@ -406,7 +437,7 @@ fn syntax_error(e: pest::error::Error<Rule>, text: &str, file: FileId) -> Error 
         n => format!("{} or {}", expected[..n - 1].join(", "), expected[n - 1]),
     };
     Error::new(
-        Span::new(file, pos, pos + len),
+        at.span(pos, pos + len),
         format!("expected {list}, found {found}"),
     )
     .label(format!("expected {list}"))

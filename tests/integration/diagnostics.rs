@@ -236,3 +236,18 @@ fn syntax_error_in_our_words() {
         "sphere { centre <0, 1, 0>  radius 1 + }\n",
     )]));
 }
+
+#[test]
+fn mistake_two_includes_deep_shows_the_whole_chain() {
+    insta::assert_snapshot!(report(&[
+        ("scene.rt", "let R = 1\ninclude \"parts/objects.rt\"\n"),
+        (
+            "parts/objects.rt",
+            "// the objects\ninclude \"shapes/balls.rt\"\n"
+        ),
+        (
+            "parts/shapes/balls.rt",
+            "sphere { radius R }\nsphere { radius R * 2  material { colour rgb(1, 0.5) } }\n",
+        ),
+    ]));
+}

@@ -449,3 +449,111 @@ proptest! {
         let _ = try_build(&p);
     }
 }
+
+/// The fenced examples of docs/language.md, so the reference cannot drift
+/// from the parser: every one parses, and the statement examples build.
+#[test]
+fn the_language_reference_examples_work() {
+    let doc = include_str!("../../docs/language.md");
+    let blocks: Vec<&str> = doc
+        .split("```")
+        .skip(1)
+        .step_by(2)
+        .map(|b| b.trim_start_matches(|c: char| c != '\n'))
+        .filter(|b| !b.contains('×'))
+        .collect();
+    assert!(blocks.len() >= 7, "{}", blocks.len());
+    let f = Files::new();
+    f.write("materials.rt", "material gold { colour gold }");
+    for (k, b) in blocks.iter().enumerate() {
+        let p = f.write(&format!("doc{k}.rt"), b);
+        if let Err(e) = lang::load(&p) {
+            panic!("example {k} does not parse: {e}\n{b}");
+        }
+        // Transforms alone are not a statement; an image texture needs its file.
+        let statement = !b.contains("image \"") && !b.trim_start().starts_with("translate");
+        if !statement {
+            continue;
+        }
+        // Build each top-level statement alone (one example shows two cameras).
+        let mut chunks: Vec<String> = Vec::new();
+        for line in b.lines() {
+            match chunks.last_mut() {
+                Some(c) if line.starts_with([' ', '}']) || line.is_empty() => {
+                    c.push('\n');
+                    c.push_str(line);
+                }
+                _ => chunks.push(line.to_string()),
+            }
+        }
+        let lets: String = b
+            .lines()
+            .filter(|l| l.starts_with("let ") || l.starts_with("material "))
+            .collect::<Vec<_>>()
+            .join("\n");
+        for c in chunks
+            .iter()
+            .filter(|c| !c.starts_with("let ") && !c.starts_with("material "))
+        {
+            let p = f.write(&format!("doc{k}.rt"), &format!("{lets}\n{c}"));
+            if let Err(e) = try_build(&p) {
+                panic!("example {k} does not build: {e:?}\n{c}");
+            }
+        }
+    }
+}
+
+#[test]
+fn a_texture_value_keeps_its_block() {
+    // A pattern's block belongs to it: an unknown pattern is one clear
+    // error, not a stray-block error too.
+    assert_eq!(
+        errors("material m { colour chequer { a white  b black }  reflect 0.5 }"),
+        ["unknown texture `chequer`"]
+    );
+    let s = build("material m { colour checker { a white  b black }  reflect 0.5 }");
+    assert!(matches!(
+        s.materials[1].texture,
+        raytrace::scene::Texture::Checker { .. }
+    ));
+}
+
+#[test]
+fn includes_inside_blocks_add_to_the_block() {
+    let f = Files::new();
+    f.write(
+        "balls.rt",
+        "sphere { translate <1, 0, 0> }\nsphere { translate <2, 0, 0> }",
+    );
+    let p = f.write(
+        "scene.rt",
+        "group { include \"balls.rt\"  translate <0, 5, 0> }",
+    );
+    let s = try_build(&p).unwrap();
+    assert_eq!(s.objects.len(), 2);
+    assert!(close(centre_of(&s, 1), DVec3::new(2.0, 5.0, 0.0)));
+    assert_eq!(
+        errors("sphere { let r = 1 }"),
+        ["`let` is only allowed at the top level"]
+    );
+}
+
+#[test]
+fn mesh_files_are_found_relative_to_the_scene_and_errors_name_them() {
+    let f = Files::new();
+    f.write(
+        "models/bad.ply",
+        "ply\nformat ascii 1.0\nelement vertex 3\nend_header\n1 2\n",
+    );
+    let p = f.write(
+        "scenes/scene.rt",
+        "mesh \"../models/bad.ply\" { flat }\nmesh \"gone.ply\" { }",
+    );
+    let e = try_build(&p).unwrap_err();
+    assert_eq!(e.len(), 2, "{e:?}");
+    assert!(
+        e[0].starts_with("cannot read the mesh `../models/bad.ply`"),
+        "{e:?}"
+    );
+    assert_eq!(e[1], "cannot find the mesh file `gone.ply`");
+}

@@ -185,6 +185,19 @@ impl<'p> Builder<'p> {
                     e = e.note(o.span(), format!("found {} instead", o.describe()));
                 }
                 self.err(e);
+                // Skip to the next statement rather than report each stray value.
+                while let Some(it) = items.get(*i) {
+                    let block_at = |k: usize| matches!(items.get(k), Some(Item::Block(_)));
+                    let next_statement = matches!(it, Item::Let { .. })
+                        || it.as_name().is_some_and(|n| {
+                            TOP_KEYWORDS.contains(&n.node)
+                                && (n.node == "ambient" || block_at(*i + 1) || block_at(*i + 2))
+                        });
+                    if next_statement {
+                        break;
+                    }
+                    *i += 1;
+                }
                 None
             }
         }
