@@ -25,8 +25,10 @@ plane { normal <0, 1, 0>  material { colour rgb(1, 1, 1) } }
 sphere { centre <3, 2, 0>  radius 1  material { colour rgb(1, 0, 0) } }
 ",
     );
-    // Column 51's centre looks at x ≈ 3.09, row 32's at z ≈ 0.16.
-    let shadowed = film.get(51, 32);
+    // Column 49's centre looks at x ≈ 2.47, row 32's at z ≈ 0.16: in the
+    // shadow, 8° off the sphere's centre as the camera sees it (its rim is
+    // at 5.7°).
+    let shadowed = film.get(49, 32);
     assert!((shadowed[0] - 0.1).abs() < 1e-4, "shadow: {shadowed:?}");
     assert!(
         (shadowed[1] - 0.1).abs() < 1e-4,
@@ -88,7 +90,7 @@ box {{ min <0.05, -0.3, -0.25>  max <0.55, 0.7, 0.25> }}
         .iter()
         .filter(|p| luminance(**p) > 0.0)
         .count();
-    assert!(lit > 100, "the box is visible: {lit} pixels");
+    assert!(lit > 30, "the box is visible: {lit} pixels");
     assert!(max_difference(&by_transform, &by_hand) < 1e-4);
 }
 

@@ -15,6 +15,7 @@
 mod eval;
 mod objects;
 mod params;
+mod textures;
 
 use super::{
     Camera, Colour, Light, Material, Projection, RenderSettings, Scene, Texture, Transfer,
@@ -640,12 +641,6 @@ impl<'p> Builder<'p> {
         }
         self.finish("material", p);
         ok.then_some(m)
-    }
-
-    /// The value of `colour`: the one place where textures (`checker { … }`)
-    /// will join plain colours.
-    fn texture(&mut self, values: &[Item]) -> Option<Texture> {
-        self.colour(&values[0]).map(|(c, _)| Texture::Solid(c))
     }
 
     /// `material NAME` or `material { … }` inside an object.
