@@ -42,6 +42,9 @@ pub struct Csg {
     children: Vec<Box<dyn Shape>>,
     /// Each child's bounds, to skip a child a line cannot touch.
     child_bounds: Vec<Aabb>,
+    /// Per child, from its bounds: never hit, bounded (so every line starts
+    /// outside it) or unbounded.
+    reach: Vec<Reach>,
     bounds: Aabb,
 }
 
@@ -89,6 +92,13 @@ fn grazing(n: DVec3, d: DVec3, d_len2: f64) -> bool {
     s * s <= 1e-18 * n.length_squared() * d_len2
 }
 
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Reach {
+    Nowhere,
+    Bounded,
+    Unbounded,
+}
+
 /// How many children are inside, split as the operation needs.
 #[derive(Clone, Copy, Default)]
 struct Count {
@@ -116,10 +126,23 @@ impl Csg {
         } else {
             bounds
         };
+        let reach = child_bounds
+            .iter()
+            .map(|b| {
+                if b.is_empty() {
+                    Reach::Nowhere
+                } else if b.is_finite() {
+                    Reach::Bounded
+                } else {
+                    Reach::Unbounded
+                }
+            })
+            .collect();
         Csg {
             op,
             children,
             child_bounds,
+            reach,
             bounds,
         }
     }
@@ -159,8 +182,12 @@ impl Csg {
     /// is left out (that is what makes a ray starting beside a big union
     /// cheap).
     fn child_flips(&self, i: usize, ray: &Ray, span: (f64, f64), s: &mut Scratch) -> bool {
-        let b = &self.child_bounds[i];
-        if b.is_empty() || (b.is_finite() && b.clip(ray, span.0, span.1).is_none()) {
+        let bounded = match self.reach[i] {
+            Reach::Nowhere => return false,
+            Reach::Bounded => true,
+            Reach::Unbounded => false,
+        };
+        if bounded && self.child_bounds[i].clip(ray, span.0, span.1).is_none() {
             return false;
         }
         let first = s.hits.len();
@@ -168,7 +195,7 @@ impl Csg {
         let d_len2 = ray.dir.length_squared();
         // A bounded solid cannot contain the far end of a line; an unbounded
         // one (a plane) starts inside when its first crossing leaves.
-        let mut inside = if b.is_finite() {
+        let mut inside = if bounded {
             false
         } else {
             match s.hits.get(first) {
