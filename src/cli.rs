@@ -24,6 +24,11 @@ pub struct Args {
     #[arg(long)]
     pub height: Option<NonZeroU32>,
 
+    /// Antialiasing: N × N rays per pixel (overrides the scene's
+    /// `render { samples }`).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16))]
+    pub samples: Option<u32>,
+
     /// Worker threads (default: one per core).
     #[arg(long)]
     pub threads: Option<NonZeroU32>,

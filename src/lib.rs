@@ -62,6 +62,9 @@ fn apply_overrides(args: &Args, scene: &mut scene::Scene) {
     if let Some(h) = args.height {
         scene.settings.height = h.get();
     }
+    if let Some(n) = args.samples {
+        scene.settings.samples = n;
+    }
 }
 
 /// Images above this many pixels need `--allow-large`: the film alone

@@ -29,6 +29,10 @@ pub fn render(scene: &Scene, world: &World, opts: &RenderOptions) -> Option<(Fil
     let (w, h) = (scene.settings.width, scene.settings.height);
     let rays = scene.camera.pixel_rays(w, h)?;
     let tracer = Tracer::new(scene, world);
+    // Antialiasing: an n × n grid of sub-pixel rays, averaged. A regular
+    // grid (not random jitter) keeps the picture the same on every run.
+    let n = scene.settings.samples.max(1);
+    let weight = 1.0 / (n * n) as f64;
     let start = std::time::Instant::now();
     let done = AtomicU64::new(0);
     let rows: Vec<(Vec<[f32; 3]>, stats::RayCounts)> = (0..h)
@@ -37,7 +41,19 @@ pub fn render(scene: &Scene, world: &World, opts: &RenderOptions) -> Option<(Fil
             let mut counts = stats::RayCounts::default();
             let row = (0..w)
                 .map(|a| {
-                    let c = tracer.trace(&rays.ray(a, b), 0, &mut counts);
+                    let c = if n == 1 {
+                        tracer.trace(&rays.ray(a, b), 0, &mut counts)
+                    } else {
+                        let mut sum = crate::scene::Colour::ZERO;
+                        for j in 0..n {
+                            for i in 0..n {
+                                let x = a as f64 + (i as f64 + 0.5) / n as f64;
+                                let y = b as f64 + (j as f64 + 0.5) / n as f64;
+                                sum += tracer.trace(&rays.ray_at(x, y), 0, &mut counts);
+                            }
+                        }
+                        sum * weight
+                    };
                     [c.x as f32, c.y as f32, c.z as f32]
                 })
                 .collect();

@@ -92,8 +92,13 @@ impl Camera {
 impl PixelRays {
     /// The ray through the centre of pixel (column a, row b), row 0 at the top.
     pub fn ray(&self, a: u32, b: u32) -> Ray {
-        let p =
-            self.corner + (a as f64 + 0.5) * self.step_right + (b as f64 + 0.5) * self.step_down;
+        self.ray_at(a as f64 + 0.5, b as f64 + 0.5)
+    }
+
+    /// The ray through a point of the image, in pixel units from the
+    /// top-left corner.
+    pub fn ray_at(&self, x: f64, y: f64) -> Ray {
+        let p = self.corner + x * self.step_right + y * self.step_down;
         Ray::new(self.origin, (p - self.origin).normalize())
     }
 }

@@ -27,7 +27,13 @@ pub struct RenderSettings {
     pub max_depth: u32,
     pub background: Colour,
     pub transfer: Transfer,
+    /// Antialiasing: each pixel averages `samples × samples` rays on a
+    /// regular grid (1 = one ray through the pixel's centre).
+    pub samples: u32,
 }
+
+/// Most samples per pixel side (`samples 16` is 256 rays a pixel).
+pub const MAX_SAMPLES: u32 = 16;
 
 impl Default for RenderSettings {
     fn default() -> Self {
@@ -37,6 +43,7 @@ impl Default for RenderSettings {
             max_depth: 5,
             background: Colour::ZERO,
             transfer: Transfer::Srgb,
+            samples: 1,
         }
     }
 }

@@ -468,8 +468,6 @@ impl<'p> Builder<'p> {
             return;
         }
         let mut p = self.params("render", block, &params::RENDER);
-        let s = &mut self.scene.settings;
-        let _ = s;
         if let Some(q) = p.take("width")
             && let Some(w) = self.integer(&q.values[0], 1, MAX_IMAGE_SIDE)
         {
@@ -489,6 +487,11 @@ impl<'p> Builder<'p> {
             && let Some((c, _)) = self.colour(&q.values[0])
         {
             self.scene.settings.background = c;
+        }
+        if let Some(q) = p.take("samples")
+            && let Some(n) = self.integer(&q.values[0], 1, super::MAX_SAMPLES)
+        {
+            self.scene.settings.samples = n;
         }
         if let Some(q) = p.take("gamma") {
             // Already applied by `find_transfer`; checked here for mistakes.

@@ -132,6 +132,7 @@ pub const RENDER: Schema = Schema {
         spec("height", 1, "a number of pixels"),
         spec("max_depth", 1, "a whole number"),
         spec("background", 1, "a colour"),
+        spec("samples", 1, "a whole number of samples per pixel side"),
         spec("gamma", 1, "`srgb`, `linear` or a number"),
     ],
     object: false,
