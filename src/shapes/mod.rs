@@ -12,6 +12,7 @@ mod cuboid;
 mod cylinder;
 mod disc;
 pub mod mesh;
+mod ply;
 mod plane;
 mod rectangle;
 mod sphere;
