@@ -56,7 +56,11 @@ fn benches(c: &mut Criterion) {
         })
     });
     c.bench_function("bunny 65536 occlusion tests", |b| {
-        b.iter(|| rays.iter().filter(|r| mesh.occludes(r, 0.0, f64::INFINITY)).count())
+        b.iter(|| {
+            rays.iter()
+                .filter(|r| mesh.occludes(r, 0.0, f64::INFINITY))
+                .count()
+        })
     });
 }
 

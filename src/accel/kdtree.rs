@@ -151,7 +151,13 @@ impl KdTree {
 
     /// Whether `test(item)` holds for any item the segment passes.
     #[inline]
-    pub fn any(&self, ray: &Ray, t_min: f64, t_max: f64, mut test: impl FnMut(u32) -> bool) -> bool {
+    pub fn any(
+        &self,
+        ray: &Ray,
+        t_min: f64,
+        t_max: f64,
+        mut test: impl FnMut(u32) -> bool,
+    ) -> bool {
         let mut hit = false;
         self.walk(ray, t_min, t_max, |items, _| {
             hit = items.iter().any(|&i| test(i));
@@ -260,7 +266,7 @@ impl Builder<'_> {
         let leaf_cost = ITEM_COST * n as f64;
         let area = bounds.area();
         let ext = bounds.extent();
-        if !(area > 0.0) {
+        if area.is_nan() || area <= 0.0 {
             return self.leaf(&items, depth);
         }
         // (cost, axis, split)
@@ -269,7 +275,7 @@ impl Builder<'_> {
         let mut hi_count = [0u32; BINS];
         for axis in 0..3 {
             let (bmin, w) = (bounds.min[axis], ext[axis]);
-            if !(w > 0.0) {
+            if w.is_nan() || w <= 0.0 {
                 continue;
             }
             let scale = BINS as f64 / w;
@@ -368,19 +374,26 @@ mod tests {
     fn empty_tree_finds_nothing() {
         let t = KdTree::build(&[]);
         let r = Ray::new(DVec3::ZERO, DVec3::X);
-        assert!(t.nearest(&r, 0.0, f64::INFINITY, |_, _| Some(1.0)).is_none());
+        assert!(
+            t.nearest(&r, 0.0, f64::INFINITY, |_, _| Some(1.0))
+                .is_none()
+        );
         assert!(!t.any(&r, 0.0, f64::INFINITY, |_| true));
     }
 
     #[test]
     fn splits_a_row_of_boxes_and_walks_front_to_back() {
-        let centres: Vec<DVec3> = (0..100).map(|i| DVec3::new(i as f64 * 3.0, 0.0, 0.0)).collect();
+        let centres: Vec<DVec3> = (0..100)
+            .map(|i| DVec3::new(i as f64 * 3.0, 0.0, 0.0))
+            .collect();
         let boxes = unit_boxes(&centres);
         let t = KdTree::build(&boxes);
         assert!(t.stats.leaves > 10, "{:?}", t.stats);
         // Along +x the first box met is item 0; along -x from the far end, item 99.
         let mut order = Vec::new();
-        t.along_line(&Ray::new(DVec3::new(-5.0, 0.0, 0.0), DVec3::X), |i| order.push(i));
+        t.along_line(&Ray::new(DVec3::new(-5.0, 0.0, 0.0), DVec3::X), |i| {
+            order.push(i)
+        });
         order.dedup();
         assert_eq!(order.first(), Some(&0));
         let mut seen = Vec::new();
@@ -395,7 +408,11 @@ mod tests {
             },
         );
         assert_eq!(hit, Some(400.0 - 297.5));
-        assert!(seen.len() < 10, "early exit failed: {} items tested", seen.len());
+        assert!(
+            seen.len() < 10,
+            "early exit failed: {} items tested",
+            seen.len()
+        );
     }
 
     #[test]
@@ -407,10 +424,9 @@ mod tests {
         ];
         let t = KdTree::build(&boxes);
         let mut seen = Vec::new();
-        t.along_line(
-            &Ray::new(DVec3::new(0.0, -3.0, 0.5), DVec3::Y),
-            |i| seen.push(i),
-        );
+        t.along_line(&Ray::new(DVec3::new(0.0, -3.0, 0.5), DVec3::Y), |i| {
+            seen.push(i)
+        });
         seen.sort();
         seen.dedup();
         assert_eq!(seen, vec![0, 1]);

@@ -54,7 +54,10 @@ pub(crate) fn record_mesh_tree(s: &TreeStats) {
 }
 
 fn mesh_totals() -> MeshTreeTotals {
-    let v: Vec<u64> = MESH_TREES.iter().map(|a| a.load(Ordering::Relaxed)).collect();
+    let v: Vec<u64> = MESH_TREES
+        .iter()
+        .map(|a| a.load(Ordering::Relaxed))
+        .collect();
     MeshTreeTotals {
         trees: v[0],
         triangles: v[1],

@@ -188,7 +188,10 @@ impl MeshData {
     pub fn memory(&self) -> usize {
         use std::mem::size_of;
         self.positions.len() * size_of::<DVec3>() * 2
-            + self.uvs.as_ref().map_or(0, |u| u.len() * size_of::<DVec2>())
+            + self
+                .uvs
+                .as_ref()
+                .map_or(0, |u| u.len() * size_of::<DVec2>())
             + self.triangles.len() * (size_of::<[u32; 3]>() + size_of::<TriPre>())
             + self.tree.memory()
     }
@@ -205,7 +208,15 @@ impl MeshData {
         Some((t, rec.0, rec.1, rec.2))
     }
 
-    fn hit_record(&self, ray: &Ray, t: f64, tri: u32, b1: f64, b2: f64, smooth: bool) -> (DVec3, DVec2, DVec3) {
+    fn hit_record(
+        &self,
+        ray: &Ray,
+        t: f64,
+        tri: u32,
+        b1: f64,
+        b2: f64,
+        smooth: bool,
+    ) -> (DVec3, DVec2, DVec3) {
         let pre = &self.pre[tri as usize];
         let geometric = pre.e1.cross(pre.e2);
         let idx = self.triangles[tri as usize];
@@ -213,7 +224,11 @@ impl MeshData {
         let normal = if smooth {
             let [n0, n1, n2] = idx.map(|k| self.normals[k as usize]);
             let n = b0 * n0 + b1 * n1 + b2 * n2;
-            if n.length_squared() > 0.0 { n } else { geometric }
+            if n.length_squared() > 0.0 {
+                n
+            } else {
+                geometric
+            }
         } else {
             geometric
         };
@@ -230,7 +245,11 @@ impl MeshData {
 
 /// Each vertex gets the sum of its triangles' unnormalised normals
 /// (|e1 × e2| is twice the area, so big faces weigh more), normalised.
-fn area_weighted_normals(positions: &[DVec3], pre: &[TriPre], triangles: &[[u32; 3]]) -> Vec<DVec3> {
+fn area_weighted_normals(
+    positions: &[DVec3],
+    pre: &[TriPre],
+    triangles: &[[u32; 3]],
+) -> Vec<DVec3> {
     let mut n = vec![DVec3::ZERO; positions.len()];
     for (t, p) in triangles.iter().zip(pre) {
         let face = p.e1.cross(p.e2);
@@ -314,15 +333,17 @@ impl Shape for Mesh {
 
     fn occludes(&self, ray: &Ray, t_min: f64, t_max: f64) -> bool {
         let d = &self.data;
-        d.tree
-            .any(ray, t_min, t_max, |i| d.pre[i as usize].hit(ray, t_min, t_max).is_some())
+        d.tree.any(ray, t_min, t_max, |i| {
+            d.pre[i as usize].hit(ray, t_min, t_max).is_some()
+        })
     }
 
     fn crossings(&self, ray: &Ray, out: &mut Vec<Hit>) {
         let d = &self.data;
         let mut found: Vec<(f64, u32, f64, f64)> = Vec::new();
         d.tree.along_line(ray, |i| {
-            if let Some((t, b1, b2)) = d.pre[i as usize].hit(ray, f64::NEG_INFINITY, f64::INFINITY) {
+            if let Some((t, b1, b2)) = d.pre[i as usize].hit(ray, f64::NEG_INFINITY, f64::INFINITY)
+            {
                 found.push((t, i, b1, b2));
             }
         });
@@ -352,5 +373,202 @@ impl Shape for Mesh {
 
     fn is_solid(&self) -> bool {
         self.data.closed
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::shapes::ply::icosphere;
+    use crate::shapes::testing;
+    use proptest::prelude::*;
+
+    fn sphere_mesh(levels: u32) -> Arc<MeshData> {
+        let (p, t) = icosphere(levels);
+        Arc::new(MeshData::from_parts(p, None, None, t))
+    }
+
+    /// The nearest hit by testing every triangle.
+    fn brute(d: &MeshData, ray: &Ray) -> Option<f64> {
+        d.pre
+            .iter()
+            .filter_map(|p| p.hit(ray, 1e-9, f64::INFINITY))
+            .map(|h| h.0)
+            .min_by(f64::total_cmp)
+    }
+
+    fn agree(d: &MeshData, rays: &[Ray]) -> usize {
+        let mesh = Mesh::new(
+            Arc::new(MeshData::from_parts(
+                d.positions.clone(),
+                None,
+                None,
+                d.triangles.clone(),
+            )),
+            false,
+            0,
+        );
+        let mut hits = 0;
+        for r in rays {
+            let tree = mesh.intersect(r, 1e-9, f64::INFINITY).map(|h| h.t);
+            let want = brute(d, r);
+            assert_eq!(tree, want, "{r:?}");
+            assert_eq!(mesh.occludes(r, 1e-9, f64::INFINITY), want.is_some());
+            hits += want.is_some() as usize;
+        }
+        hits
+    }
+
+    #[test]
+    fn icosphere_is_closed_outward_and_round() {
+        let d = sphere_mesh(3);
+        assert_eq!(d.triangle_count(), 20 * 64);
+        assert!(d.is_closed());
+        for p in &d.pre {
+            let centre = p.v0 + (p.e1 + p.e2) / 3.0;
+            assert!(p.e1.cross(p.e2).dot(centre) > 0.0, "inward triangle");
+        }
+        let mesh = Mesh::new(d.clone(), true, 0);
+        assert!(mesh.is_solid());
+        testing::check_consistency(&mesh, &testing::rays_towards(DVec3::ZERO, 1.2, 2000, 7));
+        // An open mesh (one triangle removed) is not a solid.
+        let (p, mut t) = icosphere(1);
+        t.pop();
+        assert!(!MeshData::from_parts(p, None, None, t).is_closed());
+    }
+
+    #[test]
+    fn silhouette_matches_the_analytic_sphere() {
+        let d = sphere_mesh(3);
+        // Every triangle's plane is at least `inner` from the centre: inside
+        // that radius every ray must hit, beyond radius 1 none may.
+        let inner = d
+            .pre
+            .iter()
+            .map(|p| p.e1.cross(p.e2).normalize().dot(p.v0))
+            .fold(f64::INFINITY, f64::min);
+        assert!(inner > 0.99 && inner < 1.0);
+        let mesh = Mesh::new(d, false, 0);
+        let rays = testing::rays_towards(DVec3::ZERO, 0.0, 300, 3);
+        for (k, r) in rays.iter().enumerate() {
+            let dir = r.dir;
+            let side = dir.any_orthonormal_vector();
+            let side = glam::DQuat::from_axis_angle(dir, k as f64) * side;
+            for (offset, must_hit) in [
+                (0.0, true),
+                (0.5, true),
+                (inner - 1e-9, true),
+                (1.0 + 1e-9, false),
+                (1.3, false),
+            ] {
+                let ray = Ray::new(r.origin + side * offset, dir);
+                let h = mesh.intersect(&ray, 0.0, f64::INFINITY);
+                assert_eq!(h.is_some(), must_hit, "offset {offset}");
+                if let Some(h) = h {
+                    // Depth of the analytic sphere at this offset, within the
+                    // tessellation's sag.
+                    let centre_t = -r.origin.dot(dir);
+                    let exact = centre_t - (1.0 - offset * offset).sqrt();
+                    assert!((h.t - exact).abs() < 0.08, "{} vs {exact}", h.t);
+                    assert!(h.normal.dot(dir) < 0.0, "outward normal faces the camera");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn smooth_normals_follow_the_sphere() {
+        let mesh = Mesh::new(sphere_mesh(2), true, 0);
+        for r in testing::rays_towards(DVec3::ZERO, 0.7, 200, 5) {
+            if let Some(h) = mesh.intersect(&r, 0.0, f64::INFINITY) {
+                let p = r.at(h.t).normalize();
+                assert!(h.normal.normalize().dot(p) > 0.999);
+                assert!(h.uv.x >= 0.0 && h.uv.y >= 0.0 && h.uv.x + h.uv.y <= 1.0 + 1e-12);
+            }
+        }
+    }
+
+    #[test]
+    fn tree_agrees_with_brute_force_on_a_sphere() {
+        let d = sphere_mesh(3);
+        let hits = agree(&d, &testing::rays_towards(DVec3::ZERO, 1.5, 3000, 11));
+        assert!(hits > 1000, "{hits}");
+    }
+
+    #[test]
+    fn tree_agrees_with_brute_force_on_the_bunny() {
+        let path =
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/bunny.ply");
+        let path = if path.exists() {
+            path
+        } else {
+            "/work/shared/data/bunny.ply".into()
+        };
+        let Ok(d) = MeshData::load(&path) else {
+            eprintln!("skipping: no bunny at {}", path.display());
+            return;
+        };
+        assert_eq!(d.triangle_count(), 69451);
+        assert!(!d.is_closed(), "the bunny has holes in its base");
+        let b = d.bounds();
+        let hits = agree(&d, &testing::rays_towards(b.centre(), 0.1, 2000, 13));
+        assert!(hits > 500, "{hits}");
+    }
+
+    fn soup(seed: u64, n: usize) -> MeshData {
+        let mut s = seed | 1;
+        let mut rnd = move || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        let mut pos = Vec::new();
+        let mut tris = Vec::new();
+        for i in 0..n as u32 {
+            let c = DVec3::new(rnd(), rnd(), rnd()) * 3.0;
+            let size = 0.05 + 0.5 * rnd().abs();
+            for _ in 0..3 {
+                pos.push(c + DVec3::new(rnd(), rnd(), rnd()) * size);
+            }
+            tris.push([3 * i, 3 * i + 1, 3 * i + 2]);
+        }
+        // Some axis-aligned triangles, which lie in split planes.
+        for k in 0..n as u32 / 10 {
+            let z = (k % 5) as f64 * 0.5;
+            let base = pos.len() as u32;
+            pos.extend([
+                DVec3::new(0.0, 0.0, z),
+                DVec3::new(1.0, 0.0, z),
+                DVec3::new(0.0, 1.0, z),
+            ]);
+            tris.push([base, base + 1, base + 2]);
+        }
+        MeshData::from_parts(pos, None, None, tris)
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(24))]
+        #[test]
+        fn tree_agrees_with_brute_force_on_triangle_soups(seed in any::<u64>(), n in 1usize..400) {
+            let d = soup(seed, n);
+            let mut rays = testing::rays_towards(DVec3::ZERO, 3.0, 300, seed);
+            // Rays along the axes, with zero direction components.
+            for k in 0..60 {
+                let o = DVec3::new((k % 7) as f64 * 0.3 - 1.0, (k % 5) as f64 * 0.25, 10.0);
+                rays.push(Ray::new(o, -DVec3::Z));
+                rays.push(Ray::new(DVec3::new(-10.0, o.x, o.y), DVec3::X));
+            }
+            agree(&d, &rays);
+        }
+    }
+
+    #[test]
+    fn instances_share_one_mesh() {
+        let d = sphere_mesh(2);
+        let a = Mesh::new(d.clone(), true, 1);
+        let b = Mesh::new(d.clone(), false, 2);
+        assert!(Arc::ptr_eq(a.data(), b.data()));
+        assert_eq!(Arc::strong_count(&d), 3);
     }
 }

@@ -111,11 +111,7 @@ impl PropertyAccess for Elem {
     fn set_double(&mut self, n: &str, v: f64) -> PropertyAccessResult {
         self.scalar(n, v)
     }
-    fn begin_list_int(
-        &mut self,
-        name: &str,
-        _len: usize,
-    ) -> ply_rs_bw::ply::BeginList<'_, i32> {
+    fn begin_list_int(&mut self, name: &str, _len: usize) -> ply_rs_bw::ply::BeginList<'_, i32> {
         use ply_rs_bw::ply::BeginList;
         if is_index_list(name) {
             BeginList::Fill(&mut self.ints)
@@ -218,9 +214,7 @@ pub fn parse(bytes: &[u8]) -> Result<PlyMesh, PlyError> {
             None,
         ));
     };
-    let is_ascii = bytes[..end]
-        .windows(12)
-        .any(|w| w == b"format ascii");
+    let is_ascii = bytes[..end].windows(12).any(|w| w == b"format ascii");
     let text = if eol == b"\n" {
         std::borrow::Cow::Borrowed(bytes)
     } else if is_ascii {
@@ -234,7 +228,13 @@ pub fn parse(bytes: &[u8]) -> Result<PlyMesh, PlyError> {
     // but it is third-party code fed user bytes: a panic would take the
     // whole render down, so it is caught and reported as a bad file.
     let result = std::panic::catch_unwind(|| read(&text));
-    result.unwrap_or_else(|_| Err(err("the file is malformed (the PLY reader gave up)", None, None)))
+    result.unwrap_or_else(|_| {
+        Err(err(
+            "the file is malformed (the PLY reader gave up)",
+            None,
+            None,
+        ))
+    })
 }
 
 fn read(bytes: &[u8]) -> Result<PlyMesh, PlyError> {
@@ -245,9 +245,10 @@ fn read(bytes: &[u8]) -> Result<PlyMesh, PlyError> {
         .map_err(|e| err(format!("bad header: {}", crate_message(&e)), e.line(), None))?;
     let header_lines = reader.line().saturating_sub(1);
 
-    let vertex_def = header.elements.get("vertex").ok_or_else(|| {
-        err("the header declares no `vertex` element", None, None)
-    })?;
+    let vertex_def = header
+        .elements
+        .get("vertex")
+        .ok_or_else(|| err("the header declares no `vertex` element", None, None))?;
     for axis in ["x", "y", "z"] {
         match vertex_def.properties.get(axis) {
             Some(p) if matches!(p.data_type, PropertyType::Scalar(_)) => {}
@@ -267,9 +268,11 @@ fn read(bytes: &[u8]) -> Result<PlyMesh, PlyError> {
             None,
         )
     })?;
-    if !face_def.properties.iter().any(|(name, p)| {
-        is_index_list(name) && matches!(p.data_type, PropertyType::List(..))
-    }) {
+    if !face_def
+        .properties
+        .iter()
+        .any(|(name, p)| is_index_list(name) && matches!(p.data_type, PropertyType::List(..)))
+    {
         return Err(err(
             "the face element has no list property `vertex_indices` (or `vertex_index`)",
             None,
@@ -400,5 +403,345 @@ fn crate_message(e: &ply_rs_bw::parser::ParseError) -> String {
         (Some(_), Some((head, tail))) if head.starts_with("Line ") => tail.to_string(),
         _ => s,
     };
-    s.lines().next().unwrap_or("").trim().to_string()
+    let first = s.lines().next().unwrap_or("").trim();
+    // The crate's detail is on later lines; the offending value is the useful part.
+    let quoted = |key: &str| {
+        s.split_once(key)
+            .and_then(|(_, v)| v.split_once('\''))
+            .map(|(v, _)| v.trim().to_string())
+    };
+    if let Some(value) = quoted("Value: '") {
+        format!("{first} Cannot read `{value}` as a number.")
+    } else if let Some(line) = quoted("String: '") {
+        format!("{first} Expected numbers, found `{line}`.")
+    } else {
+        first.to_string()
+    }
+}
+
+/// An ASCII PLY file with the given vertices and faces (for meshes the
+/// project makes itself, such as the example icosphere, and for tests).
+pub fn write_ascii(positions: &[DVec3], faces: &[Vec<u32>]) -> String {
+    use std::fmt::Write;
+    let mut s = String::new();
+    let _ = write!(
+        s,
+        "ply\nformat ascii 1.0\ncomment written by raytrace\nelement vertex {}\n\
+         property float x\nproperty float y\nproperty float z\nelement face {}\n\
+         property list uchar int vertex_indices\nend_header\n",
+        positions.len(),
+        faces.len()
+    );
+    for p in positions {
+        let _ = writeln!(s, "{} {} {}", p.x as f32, p.y as f32, p.z as f32);
+    }
+    for f in faces {
+        let _ = write!(s, "{}", f.len());
+        for i in f {
+            let _ = write!(s, " {i}");
+        }
+        s.push('\n');
+    }
+    s
+}
+
+/// A sphere of radius 1 made by subdividing an icosahedron `levels` times
+/// (20·4^levels triangles, wound counter-clockwise seen from outside).
+pub fn icosphere(levels: u32) -> (Vec<DVec3>, Vec<[u32; 3]>) {
+    let g = (1.0 + 5f64.sqrt()) / 2.0;
+    let mut pos: Vec<DVec3> = [
+        (-1.0, g, 0.0),
+        (1.0, g, 0.0),
+        (-1.0, -g, 0.0),
+        (1.0, -g, 0.0),
+        (0.0, -1.0, g),
+        (0.0, 1.0, g),
+        (0.0, -1.0, -g),
+        (0.0, 1.0, -g),
+        (g, 0.0, -1.0),
+        (g, 0.0, 1.0),
+        (-g, 0.0, -1.0),
+        (-g, 0.0, 1.0),
+    ]
+    .iter()
+    .map(|&(x, y, z)| DVec3::new(x, y, z).normalize())
+    .collect();
+    let mut tris: Vec<[u32; 3]> = vec![
+        [0, 11, 5],
+        [0, 5, 1],
+        [0, 1, 7],
+        [0, 7, 10],
+        [0, 10, 11],
+        [1, 5, 9],
+        [5, 11, 4],
+        [11, 10, 2],
+        [10, 7, 6],
+        [7, 1, 8],
+        [3, 9, 4],
+        [3, 4, 2],
+        [3, 2, 6],
+        [3, 6, 8],
+        [3, 8, 9],
+        [4, 9, 5],
+        [2, 4, 11],
+        [6, 2, 10],
+        [8, 6, 7],
+        [9, 8, 1],
+    ];
+    for _ in 0..levels {
+        let mut mid = std::collections::HashMap::new();
+        let mut midpoint = |a: u32, b: u32, pos: &mut Vec<DVec3>| -> u32 {
+            *mid.entry((a.min(b), a.max(b))).or_insert_with(|| {
+                pos.push((pos[a as usize] + pos[b as usize]).normalize());
+                pos.len() as u32 - 1
+            })
+        };
+        let mut next = Vec::with_capacity(tris.len() * 4);
+        for [a, b, c] in tris {
+            let ab = midpoint(a, b, &mut pos);
+            let bc = midpoint(b, c, &mut pos);
+            let ca = midpoint(c, a, &mut pos);
+            next.extend([[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]);
+        }
+        tris = next;
+    }
+    (pos, tris)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// A unit square split as one quad, in the given encoding, with the
+    /// given index-list type and extra properties.
+    fn square(format: &str, list: &str) -> Vec<u8> {
+        let mut out = format!(
+            "ply\nformat {format} 1.0\nelement vertex 4\nproperty float x\nproperty float y\n\
+             property float z\nproperty float confidence\nelement face 1\n\
+             property list {list} vertex_indices\nend_header\n"
+        )
+        .into_bytes();
+        let verts = [
+            [0.0f32, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [0.0, 1.0, 0.0],
+        ];
+        let (count_ty, index_ty) = list.split_once(' ').unwrap();
+        let int = |ty: &str, v: u32, big: bool| -> Vec<u8> {
+            match (ty, big) {
+                ("uchar" | "uint8" | "char" | "int8", _) => vec![v as u8],
+                ("ushort" | "short" | "uint16" | "int16", false) => {
+                    (v as u16).to_le_bytes().to_vec()
+                }
+                ("ushort" | "short" | "uint16" | "int16", true) => {
+                    (v as u16).to_be_bytes().to_vec()
+                }
+                (_, false) => v.to_le_bytes().to_vec(),
+                (_, true) => v.to_be_bytes().to_vec(),
+            }
+        };
+        match format {
+            "ascii" => {
+                for v in verts {
+                    out.extend(format!("{} {} {} 0.5\n", v[0], v[1], v[2]).bytes());
+                }
+                out.extend(b"4 0 1 2 3\n");
+            }
+            _ => {
+                let big = format == "binary_big_endian";
+                for v in verts {
+                    for c in [v[0], v[1], v[2], 0.5] {
+                        out.extend(if big {
+                            c.to_be_bytes()
+                        } else {
+                            c.to_le_bytes()
+                        });
+                    }
+                }
+                out.extend(int(count_ty, 4, big));
+                for i in 0..4 {
+                    out.extend(int(index_ty, i, big));
+                }
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn every_encoding_and_list_type_reads_the_same_square() {
+        for format in ["ascii", "binary_little_endian", "binary_big_endian"] {
+            for list in [
+                "uchar int",
+                "uint uint",
+                "int int",
+                "uchar uint",
+                "ushort ushort",
+                "uint8 int32",
+                "char short",
+            ] {
+                let m =
+                    parse(&square(format, list)).unwrap_or_else(|e| panic!("{format} {list}: {e}"));
+                assert_eq!(m.positions.len(), 4);
+                // A quad becomes a fan of two triangles.
+                assert_eq!(m.triangles, vec![[0, 1, 2], [0, 2, 3]], "{format} {list}");
+                assert_eq!(m.positions[2], DVec3::new(1.0, 1.0, 0.0));
+                assert!(m.normals.is_none() && m.uvs.is_none());
+            }
+        }
+    }
+
+    #[test]
+    fn line_endings_crlf_and_cr_only() {
+        let lf = String::from_utf8(square("ascii", "uchar int")).unwrap();
+        let want = parse(lf.as_bytes()).unwrap();
+        assert_eq!(parse(lf.replace('\n', "\r\n").as_bytes()).unwrap(), want);
+        assert_eq!(parse(lf.replace('\n', "\r").as_bytes()).unwrap(), want);
+        // Binary: only the header's line ends change; payload bytes stay.
+        let bin = square("binary_little_endian", "uchar int");
+        let want = parse(&bin).unwrap();
+        let end = header_end(&bin, b"\n").unwrap();
+        let header = String::from_utf8(bin[..end].to_vec()).unwrap();
+        for eol in ["\r\n", "\r"] {
+            let mut b = header.replace('\n', eol).into_bytes();
+            b.extend_from_slice(&bin[end..]);
+            assert_eq!(parse(&b).unwrap(), want, "{eol:?}");
+        }
+    }
+
+    #[test]
+    fn normals_and_uvs_are_read() {
+        for (u, v) in [("u", "v"), ("s", "t"), ("texture_u", "texture_v")] {
+            let text = format!(
+                "ply\nformat ascii 1.0\nelement vertex 3\nproperty double x\nproperty double y\n\
+                 property double z\nproperty float nx\nproperty float ny\nproperty float nz\n\
+                 property float intensity\nproperty float {u}\nproperty float {v}\n\
+                 element face 1\nproperty list uchar uint vertex_index\nend_header\n\
+                 0 0 0 0 0 1 9 0 0\n1 0 0 0 0 1 9 1 0\n0 1 0 0 0 1 9 0 1\n3 0 1 2\n"
+            );
+            let m = parse(text.as_bytes()).unwrap();
+            assert_eq!(m.normals.as_ref().unwrap()[1], DVec3::Z);
+            assert_eq!(m.uvs.as_ref().unwrap()[2], DVec2::new(0.0, 1.0), "{u} {v}");
+        }
+    }
+
+    fn ascii(body: &str, nv: usize, nf: usize) -> Vec<u8> {
+        format!(
+            "ply\nformat ascii 1.0\nelement vertex {nv}\nproperty float x\nproperty float y\n\
+             property float z\nelement face {nf}\nproperty list uchar int vertex_indices\n\
+             end_header\n{body}"
+        )
+        .into_bytes()
+    }
+
+    const TRI: &str = "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+
+    #[test]
+    fn malformed_files_are_errors_with_places() {
+        assert!(parse(&ascii(TRI, 3, 1)).is_ok());
+        // Truncated: the header promises two faces.
+        let e = parse(&ascii(TRI, 3, 2)).unwrap_err();
+        assert!(e.message.contains("ends early"), "{e}");
+        assert_eq!(e.element.as_deref(), Some("face"));
+        // Wrong counts the other way: data left over.
+        let e = parse(&ascii(&format!("{TRI}3 0 2 1\n"), 3, 1)).unwrap_err();
+        assert!(e.message.contains("more data"), "{e}");
+        // Index out of range, on line 13 (9 header lines, 3 vertices, face 0).
+        let e = parse(&ascii("0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n", 3, 1)).unwrap_err();
+        assert!(e.message.contains("out of range"), "{e}");
+        assert_eq!(e.line, Some(13));
+        assert_eq!(e.element.as_deref(), Some("face 0"));
+        let e = parse(&ascii("0 0 0\n1 0 0\n0 1 0\n3 0 1 -1\n", 3, 1)).unwrap_err();
+        assert!(e.message.contains("out of range"), "{e}");
+        // NaN coordinates (binary: ASCII "nan" is already not a number).
+        let mut b = square("binary_little_endian", "uchar int");
+        let end = header_end(&b, b"\n").unwrap();
+        b[end + 16 + 4..end + 16 + 8].copy_from_slice(&f32::NAN.to_le_bytes());
+        let e = parse(&b).unwrap_err();
+        assert!(e.message.contains("finite"), "{e}");
+        assert_eq!(e.element.as_deref(), Some("vertex 1"));
+        // A word where a number belongs.
+        let e = parse(&ascii("0 0 0\n1 zero 0\n0 1 0\n3 0 1 2\n", 3, 1)).unwrap_err();
+        assert_eq!(e.line, Some(11), "{e}");
+        assert!(e.message.contains("`1 zero 0`"), "{e}");
+        // Faces with fewer than three corners.
+        let e = parse(&ascii("0 0 0\n1 0 0\n0 1 0\n2 0 1\n", 3, 1)).unwrap_err();
+        assert!(e.message.contains("at least 3"), "{e}");
+        // Not a PLY at all, empty, no end_header, no faces, no x.
+        assert!(
+            parse(b"OFF\n3 1 0\n")
+                .unwrap_err()
+                .message
+                .contains("not a PLY")
+        );
+        assert!(parse(b"").unwrap_err().message.contains("empty"));
+        assert!(
+            parse(b"ply\nformat ascii 1.0\n")
+                .unwrap_err()
+                .message
+                .contains("end_header")
+        );
+        let e = parse(b"ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\nend_header\n0 0 0\n").unwrap_err();
+        assert!(e.message.contains("no `face`"), "{e}");
+        let e = parse(b"ply\nformat ascii 1.0\nelement vertex 1\nproperty float y\nproperty float z\nelement face 0\nproperty list uchar int vertex_indices\nend_header\n0 0\n").unwrap_err();
+        assert!(e.message.contains("`x`"), "{e}");
+        // A header line that is not PLY.
+        let e = parse(b"ply\nformat ascii 1.0\nelephant vertex 1\nend_header\n").unwrap_err();
+        assert_eq!(e.line, Some(3), "{e}");
+        // Truncated binary.
+        let mut b = square("binary_little_endian", "uchar int");
+        b.truncate(b.len() - 3);
+        assert!(parse(&b).unwrap_err().message.contains("ends early"));
+    }
+
+    #[test]
+    fn missing_file_is_an_error() {
+        let e =
+            crate::shapes::MeshData::load(std::path::Path::new("/nonexistent/x.ply")).unwrap_err();
+        assert!(e.message.contains("cannot read"), "{e}");
+    }
+
+    #[test]
+    fn written_files_read_back() {
+        let (p, t) = icosphere(1);
+        let faces: Vec<Vec<u32>> = t.iter().map(|f| f.to_vec()).collect();
+        let m = parse(write_ascii(&p, &faces).as_bytes()).unwrap();
+        assert_eq!(m.triangles, t);
+        assert_eq!(m.positions.len(), 42);
+        assert!((m.positions[7] - p[7]).length() < 1e-6);
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(400))]
+        /// Mangled files never panic, neither here nor inside the crate
+        /// (`read` is called without the panic guard).
+        #[test]
+        fn mangled_files_never_panic(
+            which in 0usize..4,
+            edits in proptest::collection::vec((any::<prop::sample::Index>(), any::<u8>(), 0u8..3), 1..8),
+            cut in any::<prop::sample::Index>(),
+        ) {
+            let mut b = match which {
+                0 => square("ascii", "uchar int"),
+                1 => square("binary_little_endian", "uint uint"),
+                2 => square("binary_big_endian", "uchar int"),
+                _ => ascii(TRI, 3, 1),
+            };
+            for (at, byte, op) in edits {
+                let i = at.index(b.len());
+                match op {
+                    0 => b[i] = byte,
+                    1 => b.insert(i, byte),
+                    _ => { b.remove(i); }
+                }
+                if b.is_empty() { break; }
+            }
+            if !b.is_empty() && cut.index(4) == 0 {
+                b.truncate(cut.index(b.len()));
+            }
+            let _ = read(&b);
+            let _ = parse(&b);
+        }
+    }
 }
