@@ -29,6 +29,10 @@ fn main() {
         .unwrap_or_else(|| "../shared/data/bunny.ply".into());
     let smooth = !args.iter().any(|a| a == "flat");
     let grid = args.iter().any(|a| a == "grid");
+    let size: u32 = std::env::var("SIZE")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(1000);
     let clock = Instant::now();
     let data = match MeshData::load(path.as_ref()) {
         Ok(d) => Arc::new(d),
@@ -78,8 +82,8 @@ fn main() {
     let scene = Scene {
         camera,
         settings: RenderSettings {
-            width: 1000,
-            height: 1000,
+            width: size,
+            height: size,
             max_depth: 4,
             background: Colour::new(0.05, 0.05, 0.1),
             transfer: Transfer::Linear,
