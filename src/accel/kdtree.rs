@@ -94,6 +94,29 @@ impl Default for BuildParams {
 const MAX_DEPTH: usize = 60;
 const STACK: usize = MAX_DEPTH + 4;
 
+/// A node's box prepared for SAH costs: per axis, the half area of the
+/// faces across it (`cap`) and the half perimeter around it (`ring`).
+struct Frame {
+    min: [f64; 3],
+    max: [f64; 3],
+    cap: [f64; 3],
+    ring: [f64; 3],
+    inv_half_area: f64,
+}
+
+impl Frame {
+    fn new(b: &Aabb) -> Frame {
+        let e = b.extent().to_array();
+        Frame {
+            min: b.min.to_array(),
+            max: b.max.to_array(),
+            cap: [e[1] * e[2], e[2] * e[0], e[0] * e[1]],
+            ring: [e[1] + e[2], e[2] + e[0], e[0] + e[1]],
+            inv_half_area: 2.0 / b.area(),
+        }
+    }
+}
+
 /// A box as plain arrays: indexing glam's vectors by a run-time axis
 /// costs a `match` per access, which the build does tens of millions of times.
 type Box6 = [[f64; 3]; 2];
@@ -224,7 +247,11 @@ impl KdTree {
         let Some((mut lo, mut hi)) = self.bounds.clip(ray, t_min, t_max) else {
             return;
         };
-        let inv = ray.dir.recip();
+        // Arrays, not glam vectors: indexing a DVec3 by a run-time axis is
+        // a `match` per access on the hottest path of the renderer.
+        let inv = ray.dir.recip().to_array();
+        let origin = ray.origin.to_array();
+        let dir = ray.dir.to_array();
         // Not zeroed per ray: every slot is written before it is read.
         let mut stack = [std::mem::MaybeUninit::<(u32, f64, f64)>::uninit(); STACK];
         let mut sp = 0;
@@ -234,7 +261,7 @@ impl KdTree {
             if !n.is_leaf() {
                 let axis = (n.a & 3) as usize;
                 let split = f32::from_bits(n.b) as f64;
-                let (o, d) = (ray.origin[axis], ray.dir[axis]);
+                let (o, d) = (origin[axis], dir[axis]);
                 let below = node + 1;
                 let above = (n.a >> 2) as usize;
                 if d == 0.0 {
@@ -408,16 +435,11 @@ impl Builder<'_> {
         s.max_depth = s.max_depth.max(o.max_depth);
     }
 
-    /// SAH cost of splitting `bounds` at `split` on `axis`.
+    /// SAH cost of splitting the node at `split` on `axis`.
     #[inline]
-    fn cost(&self, bounds: &Aabb, axis: usize, split: f64, below: usize, above: usize) -> f64 {
-        let ext = bounds.extent();
-        let (o1, o2) = ((axis + 1) % 3, (axis + 2) % 3);
-        let cap = ext[o1] * ext[o2];
-        let ring = ext[o1] + ext[o2];
-        let (db, da) = (split - bounds.min[axis], bounds.max[axis] - split);
-        let area_b = cap + db * ring;
-        let area_a = cap + da * ring;
+    fn cost(&self, f: &Frame, axis: usize, split: f64, below: usize, above: usize) -> f64 {
+        let area_b = f.cap[axis] + (split - f.min[axis]) * f.ring[axis];
+        let area_a = f.cap[axis] + (f.max[axis] - split) * f.ring[axis];
         let bonus = if below == 0 || above == 0 {
             self.params.empty_bonus
         } else {
@@ -427,20 +449,21 @@ impl Builder<'_> {
             + self.params.item_cost
                 * (1.0 - bonus)
                 * (area_b * below as f64 + area_a * above as f64)
-                / (0.5 * bounds.area())
+                * f.inv_half_area
     }
 
     /// The best plane among `BINS - 1` evenly spaced ones per axis, counting
     /// items by the bins their (clipped) boxes start and end in.
     fn binned_split(&self, bounds: &Aabb, items: &[u32]) -> Option<(f64, usize, f64)> {
         let n = items.len();
-        let ext = bounds.extent();
+        let f = Frame::new(bounds);
+        let ext = bounds.extent().to_array();
         let mut best: Option<(f64, usize, f64)> = None;
         // One pass over the items for all three axes.
         let mut lo_count = [[0u32; BINS]; 3];
         let mut hi_count = [[0u32; BINS]; 3];
         let bmin = bounds.min.to_array();
-        let scale = (BINS as f64 / ext).to_array();
+        let scale = ext.map(|e| BINS as f64 / e);
         for &i in items {
             let [lo, hi] = &self.boxes[i as usize];
             for axis in 0..3 {
@@ -462,7 +485,7 @@ impl Builder<'_> {
                 below += lo_count[axis][k - 1] as usize;
                 above -= hi_count[axis][k - 1] as usize;
                 let split = bmin[axis] + w * k as f64 / BINS as f64;
-                let cost = self.cost(bounds, axis, split, below, above);
+                let cost = self.cost(&f, axis, split, below, above);
                 if best.is_none_or(|(c, _, _)| cost < c) {
                     best = Some((cost, axis, split));
                 }
@@ -477,11 +500,12 @@ impl Builder<'_> {
     /// nodes where that is cheaper than binning and finds tight planes.
     fn exact_split(&self, bounds: &Aabb, items: &[u32]) -> Option<(f64, usize, f64)> {
         let n = items.len();
+        let f = Frame::new(bounds);
         let mut best: Option<(f64, usize, f64)> = None;
         let mut mins = [0f64; EXACT_BELOW];
         let mut maxs = [0f64; EXACT_BELOW];
         for axis in 0..3 {
-            let (bmin, bmax) = (bounds.min[axis], bounds.max[axis]);
+            let (bmin, bmax) = (f.min[axis], f.max[axis]);
             if bmax.is_nan() || bmax <= bmin {
                 continue;
             }
@@ -510,7 +534,7 @@ impl Builder<'_> {
                     j += 1;
                 }
                 if s > bmin && s < bmax {
-                    let cost = self.cost(bounds, axis, s, i, n - j);
+                    let cost = self.cost(&f, axis, s, i, n - j);
                     if best.is_none_or(|(c, _, _)| cost < c) {
                         best = Some((cost, axis, s));
                     }
