@@ -69,6 +69,37 @@ fn mesh_totals() -> MeshTreeTotals {
     }
 }
 
+/// The last few objects a ray was tested against. An object spanning
+/// several leaves would otherwise be intersected once per leaf, and an
+/// object (a placed mesh) can cost thousands of instructions. Skipping a
+/// repeat is exact: the search limit only shrinks, so a second test could
+/// not find anything the first did not.
+struct Mailbox {
+    ids: [u32; 8],
+    next: usize,
+}
+
+impl Default for Mailbox {
+    fn default() -> Self {
+        Mailbox {
+            ids: [u32::MAX; 8],
+            next: 0,
+        }
+    }
+}
+
+impl Mailbox {
+    #[inline]
+    fn seen(&mut self, id: u32) -> bool {
+        if self.ids.contains(&id) {
+            return true;
+        }
+        self.ids[self.next % 8] = id;
+        self.next += 1;
+        false
+    }
+}
+
 /// The scene's objects, indexed for ray queries.
 #[derive(Debug)]
 pub struct World {
@@ -116,7 +147,11 @@ impl World {
                 best = Some(h);
             }
         }
+        let mut mailbox = Mailbox::default();
         self.tree.nearest(ray, t_min, t_best, |i, limit| {
+            if mailbox.seen(i) {
+                return None;
+            }
             let h = self.bounded[i as usize].intersect(ray, t_min, limit)?;
             best = Some(h);
             Some(h.t)
@@ -125,9 +160,11 @@ impl World {
     }
 
     pub fn occludes(&self, ray: &Ray, t_min: f64, t_max: f64) -> bool {
-        self.unbounded.iter().any(|o| o.occludes(ray, t_min, t_max))
-            || self.tree.any(ray, t_min, t_max, |i| {
-                self.bounded[i as usize].occludes(ray, t_min, t_max)
+        self.unbounded.iter().any(|o| o.occludes(ray, t_min, t_max)) || {
+            let mut mailbox = Mailbox::default();
+            self.tree.any(ray, t_min, t_max, |i| {
+                !mailbox.seen(i) && self.bounded[i as usize].occludes(ray, t_min, t_max)
             })
+        }
     }
 }
