@@ -168,3 +168,58 @@ impl World {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::DVec3;
+    use crate::shapes::{Plane, Sphere};
+
+    #[test]
+    fn world_agrees_with_a_linear_scan() {
+        let mut s = 0x9e3779b97f4a7c15u64;
+        let mut rnd = move || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        let spheres: Vec<Sphere> = (0..300)
+            .map(|i| {
+                let c = DVec3::new(rnd(), rnd(), rnd()) * 10.0;
+                Sphere::new(c, 0.1 + rnd().abs(), i)
+            })
+            .collect();
+        let mut objects: Vec<Box<dyn Shape>> = spheres
+            .iter()
+            .map(|s| Box::new(s.clone()) as Box<dyn Shape>)
+            .collect();
+        objects.push(Box::new(Plane::new(DVec3::Y, -9.0, 999)));
+        let world = World::build(objects);
+        assert_eq!(world.stats.unbounded, 1);
+        assert!(world.stats.tree.leaves > 10, "{:?}", world.stats.tree);
+        let floor = Plane::new(DVec3::Y, -9.0, 999);
+        for _ in 0..3000 {
+            let o = DVec3::new(rnd(), rnd(), rnd()) * 15.0;
+            let d = DVec3::new(rnd(), rnd(), rnd()).normalize_or(DVec3::X);
+            let ray = Ray::new(o, d);
+            let want = spheres
+                .iter()
+                .map(|s| s as &dyn Shape)
+                .chain([&floor as &dyn Shape])
+                .filter_map(|s| s.intersect(&ray, 1e-9, f64::INFINITY))
+                .min_by(|a, b| a.t.total_cmp(&b.t));
+            let got = world.intersect(&ray, 1e-9, f64::INFINITY);
+            assert_eq!(
+                got.map(|h| (h.t, h.material)),
+                want.map(|h| (h.t, h.material))
+            );
+            // Shadow rays: blocked just past the nearest hit, free just before.
+            let t = want.map_or(f64::INFINITY, |h| h.t);
+            assert_eq!(world.occludes(&ray, 1e-9, t * 1.001), want.is_some());
+            if want.is_some() {
+                assert!(!world.occludes(&ray, 1e-9, t * 0.999));
+            }
+        }
+    }
+}
