@@ -137,6 +137,24 @@ fn print_stats(
         "accelerate {:>10.3} s  ({} objects, {} unbounded, {} nodes)",
         a.build_seconds, a.objects, a.unbounded, a.nodes
     );
+    let t = &a.tree;
+    eprintln!(
+        "  kd-tree  {:>10}  leaves ({} empty), {} refs, max leaf {}, depth {}",
+        t.leaves, t.empty_leaves, t.references, t.max_leaf, t.max_depth
+    );
+    let m = &a.meshes;
+    if m.trees > 0 {
+        eprintln!(
+            "  meshes   {:>10.3} s  ({} trees, {} triangles, {} nodes, {} leaves, {:.2} refs/triangle, depth {})",
+            m.build_seconds,
+            m.trees,
+            m.triangles,
+            m.nodes,
+            m.leaves,
+            m.references as f64 / m.triangles.max(1) as f64,
+            m.max_depth
+        );
+    }
     eprintln!("render     {:>10.3} s", stats.seconds);
     eprintln!("total      {:>10.3} s", total.as_secs_f64());
     eprintln!(

@@ -13,6 +13,7 @@ mod cylinder;
 mod disc;
 pub mod mesh;
 mod plane;
+pub mod ply;
 mod rectangle;
 mod sphere;
 mod torus;

@@ -470,8 +470,11 @@ fn the_language_reference_examples_work() {
         if let Err(e) = lang::load(&p) {
             panic!("example {k} does not parse: {e}\n{b}");
         }
-        // Transforms alone are not a statement; an image texture needs its file.
-        let statement = !b.contains("image \"") && !b.trim_start().starts_with("translate");
+        // Transforms alone are not a statement; image textures and meshes
+        // need their files.
+        let statement = !b.contains("image \"")
+            && !b.contains("mesh \"")
+            && !b.trim_start().starts_with("translate");
         if !statement {
             continue;
         }

@@ -4,6 +4,7 @@ mod cli;
 mod diagnostics;
 mod examples;
 mod lang;
+mod mesh;
 mod render;
 mod support;
 mod textures;

@@ -1,0 +1,625 @@
+//! A kd-tree over anything with a bounding box: the triangles of a mesh or
+//! the objects of a scene. The tree only knows item numbers and boxes; the
+//! caller's closure intersects an item.
+//!
+//! Build: surface area heuristic (SAH) with a bonus for cutting off empty
+//! space (pbrt's kd-tree rules: a split must beat the cost of a leaf, a few
+//! bad refinements are tolerated, depth is capped at 8 + 1.3·log2 N). Big
+//! nodes bin the items' boxes into 32 slabs per axis; small ones try every
+//! box face. The two halves of big nodes are built in parallel (rayon).
+//! Split positions are rounded to `f32` before the items are partitioned,
+//! so the 8-byte nodes store exactly the plane that was used.
+//!
+//! Traversal: front to back with a small stack; a segment whose start lies
+//! beyond the nearest hit found so far ends the walk. A ray parallel to a
+//! split plane (zero direction component) goes only to the side its origin
+//! is on, or to both when it lies in the plane.
+
+use crate::geometry::{Aabb, Ray};
+
+/// Interior: `a = above_child << 2 | axis`, `b = split as f32 bits`; the
+/// child below the plane is the next node. Leaf: `a = count << 2 | 3`,
+/// `b = offset` into the item list.
+#[derive(Clone, Copy, Debug)]
+struct Node {
+    a: u32,
+    b: u32,
+}
+
+impl Node {
+    fn leaf(offset: usize, count: usize) -> Node {
+        Node {
+            a: ((count as u32) << 2) | 3,
+            b: offset as u32,
+        }
+    }
+    fn is_leaf(&self) -> bool {
+        self.a & 3 == 3
+    }
+}
+
+/// Shape and cost of a built tree, for `--stats`.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct TreeStats {
+    pub items: usize,
+    pub nodes: usize,
+    pub leaves: usize,
+    pub empty_leaves: usize,
+    /// Item references in all leaves (an item straddling a plane counts twice).
+    pub references: usize,
+    pub max_leaf: usize,
+    pub max_depth: usize,
+    pub build_seconds: f64,
+}
+
+#[derive(Clone, Debug)]
+pub struct KdTree {
+    nodes: Vec<Node>,
+    items: Vec<u32>,
+    bounds: Aabb,
+    pub stats: TreeStats,
+}
+
+/// Relative costs of one traversal step and one item test.
+const TRAVERSAL_COST: f64 = 1.0;
+const BINS: usize = 32;
+/// Nodes with fewer items try every box face as a plane.
+const EXACT_BELOW: usize = 12;
+/// Nodes with more items build their two halves in parallel.
+const PARALLEL_ABOVE: usize = 4096;
+
+/// Tuning of the SAH build.
+#[derive(Clone, Copy, Debug)]
+pub struct BuildParams {
+    /// Cost of one item test relative to one traversal step.
+    pub item_cost: f64,
+    /// Fraction of the cost saved when one side of a split is empty.
+    pub empty_bonus: f64,
+    /// Depth cap: `depth_base + 1.3·log2 N`.
+    pub depth_base: f64,
+}
+
+impl Default for BuildParams {
+    fn default() -> Self {
+        // Measured on the bunny: the costs matter little within 1.5..4;
+        // a deeper cap (11) doubles the nodes without a faster render.
+        BuildParams {
+            item_cost: 2.0,
+            empty_bonus: 0.5,
+            depth_base: 8.0,
+        }
+    }
+}
+/// The traversal stack holds at most one entry per level.
+const MAX_DEPTH: usize = 60;
+const STACK: usize = MAX_DEPTH + 4;
+
+/// A node's box prepared for SAH costs: per axis, the half area of the
+/// faces across it (`cap`) and the half perimeter around it (`ring`).
+struct Frame {
+    min: [f64; 3],
+    max: [f64; 3],
+    cap: [f64; 3],
+    ring: [f64; 3],
+    inv_half_area: f64,
+}
+
+impl Frame {
+    fn new(b: &Aabb) -> Frame {
+        let e = b.extent().to_array();
+        Frame {
+            min: b.min.to_array(),
+            max: b.max.to_array(),
+            cap: [e[1] * e[2], e[2] * e[0], e[0] * e[1]],
+            ring: [e[1] + e[2], e[2] + e[0], e[0] + e[1]],
+            inv_half_area: 2.0 / b.area(),
+        }
+    }
+}
+
+/// A box as plain arrays: indexing glam's vectors by a run-time axis
+/// costs a `match` per access, which the build does tens of millions of times.
+type Box6 = [[f64; 3]; 2];
+
+struct Builder<'a> {
+    boxes: &'a [Box6],
+    nodes: Vec<Node>,
+    items: Vec<u32>,
+    stats: TreeStats,
+    max_depth: usize,
+    params: BuildParams,
+}
+
+impl KdTree {
+    /// Builds the tree over `boxes[i]` for item `i`. Boxes must be finite
+    /// (unbounded things stay outside the tree); empty boxes are left out.
+    pub fn build(boxes: &[Aabb]) -> KdTree {
+        Self::build_with(boxes, BuildParams::default())
+    }
+
+    pub fn build_with(boxes: &[Aabb], params: BuildParams) -> KdTree {
+        let start = std::time::Instant::now();
+        let mut bounds = Aabb::EMPTY;
+        let mut all = Vec::with_capacity(boxes.len());
+        for (i, b) in boxes.iter().enumerate() {
+            if !b.is_empty() && b.is_finite() {
+                bounds = bounds.union(b);
+                all.push(i as u32);
+            }
+        }
+        let n = all.len().max(1) as f64;
+        let arrays: Vec<Box6> = boxes
+            .iter()
+            .map(|b| [b.min.to_array(), b.max.to_array()])
+            .collect();
+        let mut b = Builder {
+            boxes: &arrays,
+            nodes: Vec::with_capacity(2 * all.len() + 1),
+            items: Vec::with_capacity(2 * all.len()),
+            stats: TreeStats {
+                items: all.len(),
+                ..TreeStats::default()
+            },
+            max_depth: ((params.depth_base + 1.3 * n.log2()).round() as usize).min(MAX_DEPTH),
+            params,
+        };
+        b.node(bounds, all, 0, 0);
+        let mut stats = b.stats;
+        stats.nodes = b.nodes.len();
+        stats.build_seconds = start.elapsed().as_secs_f64();
+        KdTree {
+            nodes: b.nodes,
+            items: b.items,
+            bounds,
+            stats,
+        }
+    }
+
+    pub fn bounds(&self) -> Aabb {
+        self.bounds
+    }
+
+    /// Bytes held by the tree.
+    pub fn memory(&self) -> usize {
+        self.nodes.len() * std::mem::size_of::<Node>() + self.items.len() * 4
+    }
+
+    /// The nearest hit: `test(item, t_best)` intersects one item and returns
+    /// its `t` if that lies in `(t_min, t_best)`. Returns the best `t`.
+    #[inline]
+    pub fn nearest(
+        &self,
+        ray: &Ray,
+        t_min: f64,
+        t_max: f64,
+        mut test: impl FnMut(u32, f64) -> Option<f64>,
+    ) -> Option<f64> {
+        let mut best = t_max;
+        let mut found = false;
+        self.walk(ray, t_min, t_max, |items, seg_min| {
+            if seg_min > best {
+                return true;
+            }
+            for &i in items {
+                if let Some(t) = test(i, best) {
+                    best = t;
+                    found = true;
+                }
+            }
+            false
+        });
+        found.then_some(best)
+    }
+
+    /// Whether `test(item)` holds for any item the segment passes.
+    #[inline]
+    pub fn any(
+        &self,
+        ray: &Ray,
+        t_min: f64,
+        t_max: f64,
+        mut test: impl FnMut(u32) -> bool,
+    ) -> bool {
+        let mut hit = false;
+        self.walk(ray, t_min, t_max, |items, _| {
+            hit = items.iter().any(|&i| test(i));
+            hit
+        });
+        hit
+    }
+
+    /// Calls `visit` on every item in every leaf the whole line crosses
+    /// (an item may come more than once).
+    pub fn along_line(&self, ray: &Ray, mut visit: impl FnMut(u32)) {
+        self.walk(ray, f64::NEG_INFINITY, f64::INFINITY, |items, _| {
+            items.iter().for_each(|&i| visit(i));
+            false
+        });
+    }
+
+    /// Visits the leaves along the segment front to back; `leaf(items,
+    /// segment_start)` returns true to stop.
+    #[inline]
+    fn walk(&self, ray: &Ray, t_min: f64, t_max: f64, mut leaf: impl FnMut(&[u32], f64) -> bool) {
+        if self.items.is_empty() {
+            return;
+        }
+        let Some((mut lo, mut hi)) = self.bounds.clip(ray, t_min, t_max) else {
+            return;
+        };
+        // Arrays, not glam vectors: indexing a DVec3 by a run-time axis is
+        // a `match` per access on the hottest path of the renderer.
+        let inv = ray.dir.recip().to_array();
+        let origin = ray.origin.to_array();
+        let dir = ray.dir.to_array();
+        // Not zeroed per ray: every slot is written before it is read.
+        let mut stack = [std::mem::MaybeUninit::<(u32, f64, f64)>::uninit(); STACK];
+        let mut sp = 0;
+        let mut node = 0usize;
+        loop {
+            let n = self.nodes[node];
+            if !n.is_leaf() {
+                let axis = (n.a & 3) as usize;
+                let split = f32::from_bits(n.b) as f64;
+                let (o, d) = (origin[axis], dir[axis]);
+                let below = node + 1;
+                let above = (n.a >> 2) as usize;
+                if d == 0.0 {
+                    if o < split {
+                        node = below;
+                    } else if o > split {
+                        node = above;
+                    } else {
+                        stack[sp].write((above as u32, lo, hi));
+                        sp += 1;
+                        node = below;
+                    }
+                    continue;
+                }
+                let tp = (split - o) * inv[axis];
+                let (first, second) = if d > 0.0 {
+                    (below, above)
+                } else {
+                    (above, below)
+                };
+                if tp > hi {
+                    node = first;
+                } else if tp < lo {
+                    node = second;
+                } else {
+                    stack[sp].write((second as u32, tp, hi));
+                    sp += 1;
+                    node = first;
+                    hi = tp;
+                }
+                continue;
+            }
+            let count = (n.a >> 2) as usize;
+            if count > 0 {
+                let off = n.b as usize;
+                if leaf(&self.items[off..off + count], lo) {
+                    return;
+                }
+            }
+            if sp == 0 {
+                return;
+            }
+            sp -= 1;
+            // SAFETY: slots below `sp` were written by a push.
+            let (nn, l, h) = unsafe { stack[sp].assume_init() };
+            node = nn as usize;
+            lo = l;
+            hi = h;
+        }
+    }
+}
+
+impl Builder<'_> {
+    fn leaf(&mut self, items: &[u32], depth: usize) {
+        self.nodes.push(Node::leaf(self.items.len(), items.len()));
+        self.items.extend_from_slice(items);
+        let s = &mut self.stats;
+        s.leaves += 1;
+        s.empty_leaves += items.is_empty() as usize;
+        s.references += items.len();
+        s.max_leaf = s.max_leaf.max(items.len());
+        s.max_depth = s.max_depth.max(depth);
+    }
+
+    fn node(&mut self, bounds: Aabb, items: Vec<u32>, depth: usize, bad_refines: u32) {
+        let n = items.len();
+        if n <= 1 || depth >= self.max_depth {
+            return self.leaf(&items, depth);
+        }
+        let BuildParams { item_cost, .. } = self.params;
+        let leaf_cost = item_cost * n as f64;
+        let area = bounds.area();
+        if area.is_nan() || area <= 0.0 {
+            return self.leaf(&items, depth);
+        }
+        let best = if n <= EXACT_BELOW {
+            self.exact_split(&bounds, &items)
+        } else {
+            self.binned_split(&bounds, &items)
+        };
+        let Some((cost, axis, split)) = best else {
+            return self.leaf(&items, depth);
+        };
+        let mut bad = bad_refines;
+        if cost > leaf_cost {
+            bad += 1;
+        }
+        if (cost > 4.0 * leaf_cost && n < 16) || bad >= 3 {
+            return self.leaf(&items, depth);
+        }
+        let mut below_items = Vec::with_capacity(n);
+        let mut above_items = Vec::with_capacity(n);
+        for &i in &items {
+            let b = &self.boxes[i as usize];
+            let (lo, hi) = (b[0][axis], b[1][axis]);
+            let (goes_below, goes_above) = (lo < split, hi > split);
+            // A box flat in the plane itself goes to both sides.
+            if goes_below || !goes_above {
+                below_items.push(i);
+            }
+            if goes_above || !goes_below {
+                above_items.push(i);
+            }
+        }
+        drop(items);
+        let mut below_box = bounds;
+        below_box.max[axis] = split;
+        let mut above_box = bounds;
+        above_box.min[axis] = split;
+        let at = self.nodes.len();
+        self.nodes.push(Node { a: 0, b: 0 });
+        if n >= PARALLEL_ABOVE {
+            // Both halves at once on rayon's pool, each into its own
+            // arrays, then appended with their indices moved.
+            let (mut lo, mut hi) = (self.fork(), self.fork());
+            rayon::join(
+                || lo.node(below_box, below_items, depth + 1, bad),
+                || hi.node(above_box, above_items, depth + 1, bad),
+            );
+            self.append(lo);
+            self.set_interior(at, axis, split);
+            self.append(hi);
+        } else {
+            self.node(below_box, below_items, depth + 1, bad);
+            self.set_interior(at, axis, split);
+            self.node(above_box, above_items, depth + 1, bad);
+        }
+    }
+
+    fn set_interior(&mut self, at: usize, axis: usize, split: f64) {
+        let above = self.nodes.len() as u32;
+        self.nodes[at] = Node {
+            a: (above << 2) | axis as u32,
+            b: (split as f32).to_bits(),
+        };
+    }
+
+    fn fork(&self) -> Self {
+        Builder {
+            boxes: self.boxes,
+            nodes: Vec::new(),
+            items: Vec::new(),
+            stats: TreeStats::default(),
+            max_depth: self.max_depth,
+            params: self.params,
+        }
+    }
+
+    /// Appends a subtree built by a fork, moving its node and item indices.
+    fn append(&mut self, sub: Builder) {
+        let (dn, di) = (self.nodes.len() as u32, self.items.len() as u32);
+        self.nodes.extend(sub.nodes.iter().map(|n| {
+            if n.is_leaf() {
+                Node {
+                    a: n.a,
+                    b: n.b + di,
+                }
+            } else {
+                Node {
+                    a: (((n.a >> 2) + dn) << 2) | (n.a & 3),
+                    b: n.b,
+                }
+            }
+        }));
+        self.items.extend_from_slice(&sub.items);
+        let (s, o) = (&mut self.stats, &sub.stats);
+        s.leaves += o.leaves;
+        s.empty_leaves += o.empty_leaves;
+        s.references += o.references;
+        s.max_leaf = s.max_leaf.max(o.max_leaf);
+        s.max_depth = s.max_depth.max(o.max_depth);
+    }
+
+    /// SAH cost of splitting the node at `split` on `axis`.
+    #[inline]
+    fn cost(&self, f: &Frame, axis: usize, split: f64, below: usize, above: usize) -> f64 {
+        let area_b = f.cap[axis] + (split - f.min[axis]) * f.ring[axis];
+        let area_a = f.cap[axis] + (f.max[axis] - split) * f.ring[axis];
+        let bonus = if below == 0 || above == 0 {
+            self.params.empty_bonus
+        } else {
+            0.0
+        };
+        TRAVERSAL_COST
+            + self.params.item_cost
+                * (1.0 - bonus)
+                * (area_b * below as f64 + area_a * above as f64)
+                * f.inv_half_area
+    }
+
+    /// The best plane among `BINS - 1` evenly spaced ones per axis, counting
+    /// items by the bins their (clipped) boxes start and end in.
+    fn binned_split(&self, bounds: &Aabb, items: &[u32]) -> Option<(f64, usize, f64)> {
+        let n = items.len();
+        let f = Frame::new(bounds);
+        let ext = bounds.extent().to_array();
+        let mut best: Option<(f64, usize, f64)> = None;
+        // One pass over the items for all three axes.
+        let mut lo_count = [[0u32; BINS]; 3];
+        let mut hi_count = [[0u32; BINS]; 3];
+        let bmin = bounds.min.to_array();
+        let scale = ext.map(|e| BINS as f64 / e);
+        for &i in items {
+            let [lo, hi] = &self.boxes[i as usize];
+            for axis in 0..3 {
+                // Float-to-int casts saturate (and NaN from a flat axis
+                // gives 0), so every box lands in some bin.
+                let l = ((lo[axis] - bmin[axis]) * scale[axis]) as usize;
+                let h = ((hi[axis] - bmin[axis]) * scale[axis]) as usize;
+                lo_count[axis][l.min(BINS - 1)] += 1;
+                hi_count[axis][h.min(BINS - 1)] += 1;
+            }
+        }
+        for axis in 0..3 {
+            let w = ext[axis];
+            if w.is_nan() || w <= 0.0 {
+                continue;
+            }
+            let (mut below, mut above) = (0usize, n);
+            for k in 1..BINS {
+                below += lo_count[axis][k - 1] as usize;
+                above -= hi_count[axis][k - 1] as usize;
+                let split = bmin[axis] + w * k as f64 / BINS as f64;
+                let cost = self.cost(&f, axis, split, below, above);
+                if best.is_none_or(|(c, _, _)| cost < c) {
+                    best = Some((cost, axis, split));
+                }
+            }
+        }
+        let (cost, axis, split) = best?;
+        let split = split as f32 as f64;
+        (split > bounds.min[axis] && split < bounds.max[axis]).then_some((cost, axis, split))
+    }
+
+    /// The best plane among the items' own box faces (exact SAH), for small
+    /// nodes where that is cheaper than binning and finds tight planes.
+    fn exact_split(&self, bounds: &Aabb, items: &[u32]) -> Option<(f64, usize, f64)> {
+        let n = items.len();
+        let f = Frame::new(bounds);
+        let mut best: Option<(f64, usize, f64)> = None;
+        let mut mins = [0f64; EXACT_BELOW];
+        let mut maxs = [0f64; EXACT_BELOW];
+        for axis in 0..3 {
+            let (bmin, bmax) = (f.min[axis], f.max[axis]);
+            if bmax.is_nan() || bmax <= bmin {
+                continue;
+            }
+            for (k, &i) in items.iter().enumerate() {
+                let b = &self.boxes[i as usize];
+                // Rounded as the stored plane will be.
+                mins[k] = b[0][axis] as f32 as f64;
+                maxs[k] = b[1][axis] as f32 as f64;
+            }
+            let (mins, maxs) = (&mut mins[..n], &mut maxs[..n]);
+            mins.sort_unstable_by(f64::total_cmp);
+            maxs.sort_unstable_by(f64::total_cmp);
+            // Sweep the candidate planes in order: below = #{min < s},
+            // above = #{max > s}.
+            let (mut i, mut j) = (0, 0);
+            while i < n || j < n {
+                let s = if j >= n || (i < n && mins[i] <= maxs[j]) {
+                    mins[i]
+                } else {
+                    maxs[j]
+                };
+                while i < n && mins[i] < s {
+                    i += 1;
+                }
+                while j < n && maxs[j] <= s {
+                    j += 1;
+                }
+                if s > bmin && s < bmax {
+                    let cost = self.cost(&f, axis, s, i, n - j);
+                    if best.is_none_or(|(c, _, _)| cost < c) {
+                        best = Some((cost, axis, s));
+                    }
+                }
+                // Step past every min equal to s too.
+                while i < n && mins[i] <= s {
+                    i += 1;
+                }
+            }
+        }
+        best
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::DVec3;
+
+    fn unit_boxes(centres: &[DVec3]) -> Vec<Aabb> {
+        centres
+            .iter()
+            .map(|&c| Aabb::new(c - DVec3::splat(0.5), c + DVec3::splat(0.5)))
+            .collect()
+    }
+
+    #[test]
+    fn empty_tree_finds_nothing() {
+        let t = KdTree::build(&[]);
+        let r = Ray::new(DVec3::ZERO, DVec3::X);
+        assert!(
+            t.nearest(&r, 0.0, f64::INFINITY, |_, _| Some(1.0))
+                .is_none()
+        );
+        assert!(!t.any(&r, 0.0, f64::INFINITY, |_| true));
+    }
+
+    #[test]
+    fn splits_a_row_of_boxes_and_walks_front_to_back() {
+        let centres: Vec<DVec3> = (0..100)
+            .map(|i| DVec3::new(i as f64 * 3.0, 0.0, 0.0))
+            .collect();
+        let boxes = unit_boxes(&centres);
+        let t = KdTree::build(&boxes);
+        assert!(t.stats.leaves > 10, "{:?}", t.stats);
+        // Along +x the first box met is item 0; along -x from the far end, item 99.
+        let mut order = Vec::new();
+        t.along_line(&Ray::new(DVec3::new(-5.0, 0.0, 0.0), DVec3::X), |i| {
+            order.push(i)
+        });
+        order.dedup();
+        assert_eq!(order.first(), Some(&0));
+        let mut seen = Vec::new();
+        let hit = t.nearest(
+            &Ray::new(DVec3::new(400.0, 0.0, 0.0), -DVec3::X),
+            0.0,
+            f64::INFINITY,
+            |i, best| {
+                seen.push(i);
+                let tt = 400.0 - (centres[i as usize].x + 0.5);
+                (tt < best).then_some(tt)
+            },
+        );
+        assert_eq!(hit, Some(400.0 - 297.5));
+        assert!(
+            seen.len() < 10,
+            "early exit failed: {} items tested",
+            seen.len()
+        );
+    }
+
+    #[test]
+    fn rays_in_a_split_plane_see_both_sides() {
+        // Two boxes meeting at x = 0; a ray lying in that plane along y.
+        let boxes = vec![
+            Aabb::new(DVec3::new(-1.0, 0.0, 0.0), DVec3::new(0.0, 1.0, 1.0)),
+            Aabb::new(DVec3::new(0.0, 5.0, 0.0), DVec3::new(1.0, 6.0, 1.0)),
+        ];
+        let t = KdTree::build(&boxes);
+        let mut seen = Vec::new();
+        t.along_line(&Ray::new(DVec3::new(0.0, -3.0, 0.5), DVec3::Y), |i| {
+            seen.push(i)
+        });
+        seen.sort();
+        seen.dedup();
+        assert_eq!(seen, vec![0, 1]);
+    }
+}
