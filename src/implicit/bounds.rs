@@ -23,7 +23,28 @@ use crate::geometry::{Aabb, DVec3};
 
 pub fn auto_box(eq: &Equation) -> Option<Aabb> {
     let r = proven_half_size(eq)?;
-    Some(tighten(eq, r))
+    let cube = Aabb::new(DVec3::splat(-r), DVec3::splat(r));
+    // Twice: the second grid is finer, over the first box.
+    let first = tighten(eq, cube);
+    Some(tighten(eq, first))
+}
+
+/// A 33×33 grid on each face of the cube ‖u‖∞ = 1.
+fn for_face_points(mut f: impl FnMut(DVec3)) {
+    let g = 33;
+    for axis in 0..3 {
+        for side in [-1.0, 1.0] {
+            for i in 0..g {
+                for j in 0..g {
+                    let mut u = DVec3::ZERO;
+                    u[axis] = side;
+                    u[(axis + 1) % 3] = -1.0 + 2.0 * i as f64 / (g - 1) as f64;
+                    u[(axis + 2) % 3] = -1.0 + 2.0 * j as f64 / (g - 1) as f64;
+                    f(u);
+                }
+            }
+        }
+    }
 }
 
 fn proven_half_size(eq: &Equation) -> Option<f64> {
@@ -41,25 +62,16 @@ fn proven_half_size(eq: &Equation) -> Option<f64> {
             .map(|(e, c)| c * u.x.powi(e[0] as i32) * u.y.powi(e[1] as i32) * u.z.powi(e[2] as i32))
             .sum()
     };
-    let g = 33;
     let mut m = f64::INFINITY;
-    for axis in 0..3 {
-        for side in [-1.0, 1.0] {
-            for i in 0..g {
-                for j in 0..g {
-                    let a = -1.0 + 2.0 * i as f64 / (g - 1) as f64;
-                    let b = -1.0 + 2.0 * j as f64 / (g - 1) as f64;
-                    let mut u = DVec3::ZERO;
-                    u[axis] = side;
-                    u[(axis + 1) % 3] = a;
-                    u[(axis + 2) % 3] = b;
-                    m = m.min(top_at(u));
-                }
-            }
-        }
-    }
+    for_face_points(|u| m = m.min(top_at(u)));
     if m.is_nan() || m <= 0.0 {
-        return None;
+        // Negative definite is as good: the surface of −P is the same.
+        let mut neg_max = f64::NEG_INFINITY;
+        for_face_points(|u| neg_max = neg_max.max(top_at(u)));
+        if neg_max.is_nan() || neg_max >= 0.0 {
+            return None;
+        }
+        m = -neg_max;
     }
     let m = 0.5 * m;
     let mut sums = vec![0.0; n];
@@ -91,20 +103,23 @@ fn proven_half_size(eq: &Equation) -> Option<f64> {
     Some(hi * (1.0 + 1e-9) + 1e-12)
 }
 
-fn tighten(eq: &Equation, r: f64) -> Aabb {
-    let cube = Aabb::new(DVec3::splat(-r), DVec3::splat(r));
+/// The extent of the roots found on a grid of lines through `bx`, padded
+/// by two cells, within `bx`.
+fn tighten(eq: &Equation, bx: Aabb) -> Aabb {
     let g = 48;
-    let cell = 2.0 * r / g as f64;
+    let cell = bx.extent() / g as f64;
+    let centre = bx.centre();
     let mut found = Aabb::EMPTY;
     let mut c = [0.0; CAP];
     for axis in 0..3 {
+        let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
         for i in 0..=g {
             for j in 0..=g {
-                let mut o = DVec3::ZERO;
-                o[(axis + 1) % 3] = -r + i as f64 * cell;
-                o[(axis + 2) % 3] = -r + j as f64 * cell;
+                let mut o = centre;
+                o[u] = bx.min[u] + i as f64 * cell[u];
+                o[v] = bx.min[v] + j as f64 * cell[v];
                 let mut d = DVec3::ZERO;
-                d[axis] = r;
+                d[axis] = 0.5 * bx.extent()[axis];
                 let n = eq.value.along(o, d, &mut c);
                 roots_in(&c[..n], -1.0, 1.0, 1e-12, |s| {
                     let p = o + s * d;
@@ -117,9 +132,9 @@ fn tighten(eq: &Equation, r: f64) -> Aabb {
         }
     }
     if found.is_empty() {
-        // Nothing met: the surface is empty or tiny; the proven cube stays.
-        return cube;
+        // Nothing met: the surface is empty or tiny; the box stays.
+        return bx;
     }
-    let pad = DVec3::splat(2.0 * cell);
-    Aabb::new(found.min - pad, found.max + pad).intersection(&cube)
+    let pad = 2.0 * cell;
+    Aabb::new(found.min - pad, found.max + pad).intersection(&bx)
 }

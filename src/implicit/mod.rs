@@ -19,11 +19,12 @@ mod expand;
 mod parse;
 mod poly;
 mod ray_poly;
+pub mod scenes;
 pub mod solve;
 mod surface;
 
 pub use expand::{MAX_DEGREE, MAX_ROOT};
-pub use surface::ImplicitSurface;
+pub use surface::{BoundSource, ImplicitSurface};
 
 use crate::geometry::{Aabb, DVec3};
 use expand::Tree;
@@ -113,4 +114,7 @@ impl Equation {
 }
 
 #[cfg(test)]
-mod tests;
+pub(crate) mod tests;
+
+#[cfg(test)]
+mod render_tests;
