@@ -20,6 +20,7 @@ pub const CAP: usize = super::expand::MAX_DEGREE as usize + 1;
 
 #[derive(Clone, Debug)]
 pub struct Compact {
+    degree: usize,
     xs: Vec<Group>,
     ys: Vec<Group>,
     /// (exponent of z, coefficient), descending exponents within a group.
@@ -43,6 +44,7 @@ impl Compact {
             .collect();
         terms.sort_by_key(|t| std::cmp::Reverse(t.0));
         let mut c = Compact {
+            degree: p.degree() as usize,
             xs: Vec::new(),
             ys: Vec::new(),
             zs: Vec::new(),
@@ -83,38 +85,40 @@ impl Compact {
                 let mut prev_z = None;
                 for &(cz, k) in &self.zs[gy.start as usize..gy.end as usize] {
                     if let Some(pz) = prev_z {
-                        acc_z *= p.z.powi((pz - cz) as i32);
+                        acc_z *= ipow(p.z, (pz - cz) as u32);
                     }
                     acc_z += k;
                     prev_z = Some(cz);
                 }
-                acc_z *= p.z.powi(prev_z.unwrap_or(0) as i32);
+                acc_z *= ipow(p.z, (prev_z.unwrap_or(0)) as u32);
                 if let Some(py) = prev_y {
-                    acc_y *= p.y.powi((py - gy.exp) as i32);
+                    acc_y *= ipow(p.y, (py - gy.exp) as u32);
                 }
                 acc_y += acc_z;
                 prev_y = Some(gy.exp);
             }
-            acc_y *= p.y.powi(prev_y.unwrap_or(0) as i32);
+            acc_y *= ipow(p.y, (prev_y.unwrap_or(0)) as u32);
             if let Some(px) = prev_x {
-                acc_x *= p.x.powi((px - gx.exp) as i32);
+                acc_x *= ipow(p.x, (px - gx.exp) as u32);
             }
             acc_x += acc_y;
             prev_x = Some(gx.exp);
         }
-        acc_x * p.x.powi(prev_x.unwrap_or(0) as i32)
+        acc_x * ipow(p.x, (prev_x.unwrap_or(0)) as u32)
     }
 
     /// The coefficients of t in P(o + t·d), lowest first, into `out`;
     /// returns the number written (degree + 1).
-    pub fn along(&self, o: DVec3, d: DVec3, out: &mut [f64; CAP]) -> usize {
-        let mut ax = Acc::new();
+    /// `N` must exceed the degree (a compile-time size keeps the
+    /// accumulators small and on the stack for low degrees).
+    pub fn along<const N: usize>(&self, o: DVec3, d: DVec3, out: &mut [f64; N]) -> usize {
+        let mut ax = Acc::<N>::new();
         let mut prev_x: Option<u16> = None;
         for gx in &self.xs {
-            let mut ay = Acc::new();
+            let mut ay = Acc::<N>::new();
             let mut prev_y: Option<u16> = None;
             for gy in &self.ys[gx.start as usize..gx.end as usize] {
-                let mut az = Acc::new();
+                let mut az = Acc::<N>::new();
                 let mut prev_z: Option<u16> = None;
                 for &(cz, k) in &self.zs[gy.start as usize..gy.end as usize] {
                     if let Some(pz) = prev_z {
@@ -138,48 +142,50 @@ impl Compact {
             prev_x = Some(gx.exp);
         }
         ax.mul_lin_pow(o.x, d.x, prev_x.unwrap_or(0));
-        out[..ax.len].copy_from_slice(&ax.c[..ax.len]);
-        ax.len
+        *out = ax.c;
+        (self.degree + 1).min(N)
     }
 }
 
-/// A univariate polynomial in t under construction.
-struct Acc {
-    c: [f64; CAP],
-    len: usize,
+/// x^k for the small k of polynomial terms (faster than `powi`'s call).
+#[inline]
+fn ipow(x: f64, k: u32) -> f64 {
+    let mut r = 1.0;
+    for _ in 0..k {
+        r *= x;
+    }
+    r
 }
 
-impl Acc {
+/// A univariate polynomial in t under construction. Every operation runs
+/// over all N coefficients (the unused ones stay zero): fixed-length loops
+/// that the compiler unrolls and vectorises beat tracking the length.
+struct Acc<const N: usize> {
+    c: [f64; N],
+}
+
+impl<const N: usize> Acc<N> {
     #[inline]
-    fn new() -> Acc {
-        Acc {
-            c: [0.0; CAP],
-            len: 1,
-        }
+    fn new() -> Self {
+        Acc { c: [0.0; N] }
     }
 
     /// Multiplies by (o + d·t)^k.
     #[inline]
     fn mul_lin_pow(&mut self, o: f64, d: f64, k: u16) {
         for _ in 0..k {
-            let n = self.len;
-            if n < CAP {
-                self.c[n] = d * self.c[n - 1];
-            }
-            for i in (1..n).rev() {
+            for i in (1..N).rev() {
                 self.c[i] = o * self.c[i] + d * self.c[i - 1];
             }
             self.c[0] *= o;
-            self.len = (n + 1).min(CAP);
         }
     }
 
     #[inline]
-    fn add(&mut self, o: &Acc) {
-        for i in 0..o.len {
+    fn add(&mut self, o: &Acc<N>) {
+        for i in 0..N {
             self.c[i] += o.c[i];
         }
-        self.len = self.len.max(o.len);
     }
 }
 

@@ -245,3 +245,21 @@ fn timing() {
         );
     }
 }
+
+/// One scene for profiling: `RT_SCENE=torus|sextic|native`.
+#[test]
+#[ignore]
+fn profile_one() {
+    let scene = match std::env::var("RT_SCENE").as_deref() {
+        Ok("sextic") => scenes::sextic(1000),
+        Ok("native") => scenes::torus(TorusKind::Native, 1000),
+        Ok("floor") => {
+            let mut s = scenes::torus(TorusKind::Native, 1000);
+            s.objects.truncate(1);
+            s
+        }
+        _ => scenes::torus(TorusKind::Implicit, 1000),
+    };
+    let (_, stats) = draw(scene);
+    eprintln!("{:.3} s, {} rays", stats.seconds, stats.rays.total());
+}

@@ -16,7 +16,7 @@
 
 use super::Equation;
 use super::ray_poly::CAP;
-use super::solve::roots_in;
+use super::solve::{no_root_in_unit, roots_in};
 use crate::geometry::{Aabb, DVec2, DVec3, Ray};
 use crate::scene::MaterialId;
 use crate::shapes::{Hit, Shape};
@@ -79,8 +79,24 @@ impl ImplicitSurface {
 
     /// Visits the roots along the ray with t in [lo, hi], in increasing
     /// order, that lie on the written branch, until `visit` returns true.
-    fn roots(&self, ray: &Ray, lo: f64, hi: f64, mut visit: impl FnMut(f64, DVec3) -> bool) {
-        let mut c = [0.0; CAP];
+    fn roots(&self, ray: &Ray, lo: f64, hi: f64, visit: impl FnMut(f64, DVec3) -> bool) {
+        match self.equation.degree {
+            0..=4 => self.roots_n::<5>(ray, lo, hi, visit),
+            5..=6 => self.roots_n::<7>(ray, lo, hi, visit),
+            7..=12 => self.roots_n::<13>(ray, lo, hi, visit),
+            13..=20 => self.roots_n::<21>(ray, lo, hi, visit),
+            _ => self.roots_n::<CAP>(ray, lo, hi, visit),
+        }
+    }
+
+    fn roots_n<const N: usize>(
+        &self,
+        ray: &Ray,
+        lo: f64,
+        hi: f64,
+        mut visit: impl FnMut(f64, DVec3) -> bool,
+    ) {
+        let mut c = [0.0; N];
         if self.bounds.is_finite() {
             let Some((a, b)) = self.bounds.clip(ray, lo, hi) else {
                 return;
@@ -90,6 +106,9 @@ impl ImplicitSurface {
                 return;
             }
             let n = self.equation.value.along(ray.at(mid), ray.dir * h, &mut c);
+            if no_root_in_unit(&c[..n]) {
+                return;
+            }
             roots_in(&c[..n], -1.0, 1.0, 1e-13, |s| {
                 let t = mid + s * h;
                 let p = ray.at(t);

@@ -17,7 +17,7 @@
 
 use super::{Hit, Shape};
 use crate::geometry::{Aabb, DVec2, DVec3, Ray};
-use crate::implicit::solve::roots_in;
+use crate::implicit::solve::{no_root_in_unit, roots_in};
 use crate::scene::MaterialId;
 use std::f64::consts::PI;
 
@@ -66,6 +66,9 @@ impl Torus {
             2.0 * qa * qb,
             qa * qa,
         ];
+        if no_root_in_unit(&c) {
+            return;
+        }
         roots_in(&c, -1.0, 1.0, 1e-13, |s| {
             let t = mid + s * h;
             t > lo && t < hi && visit(t)

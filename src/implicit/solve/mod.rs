@@ -58,8 +58,92 @@ pub fn roots_in(c: &[f64], lo: f64, hi: f64, eps: f64, mut visit: impl FnMut(f64
         3..=4 => cascade::<5>(c, lo, hi, eps, visit),
         5..=6 => cascade::<7>(c, lo, hi, eps, visit),
         7..=12 => cascade::<13>(c, lo, hi, eps, visit),
+        13..=20 => cascade::<21>(c, lo, hi, eps, visit),
         _ => cascade::<CAP>(c, lo, hi, eps, visit),
     }
+}
+
+/// Pascal's triangle as floats, for the Bernstein test.
+const BINOM: [[f64; 13]; 13] = {
+    let mut t = [[0.0; 13]; 13];
+    let mut n = 0;
+    while n < 13 {
+        t[n][0] = 1.0;
+        let mut k = 1;
+        while k <= n {
+            t[n][k] = t[n - 1][k - 1] + if k < n { t[n - 1][k] } else { 0.0 };
+            k += 1;
+        }
+        n += 1;
+    }
+    t
+};
+
+/// RATIO[deg][i][j] = C(i, j) / C(deg, j): power basis on [0, 1] to
+/// Bernstein, computed at compile time (divisions per ray are slow).
+const RATIO: [[[f64; 13]; 13]; 13] = {
+    let mut t = [[[0.0; 13]; 13]; 13];
+    let mut d = 0;
+    while d < 13 {
+        let mut i = 0;
+        while i <= d {
+            let mut j = 0;
+            while j <= i {
+                t[d][i][j] = BINOM[i][j] / BINOM[d][j];
+                j += 1;
+            }
+            i += 1;
+        }
+        d += 1;
+    }
+    t
+};
+
+/// A quick, conservative test that the polynomial has no root in [−1, 1]:
+/// its Bernstein coefficients there all have the same sign, with a margin
+/// (the convex hull property: the curve lies within their hull). Most rays
+/// that enter a surface's box but miss the surface stop here. Only up to
+/// degree 12, where the change of basis is accurate; `false` means "maybe".
+pub fn no_root_in_unit(c: &[f64]) -> bool {
+    let n = c.len();
+    if !(2..=13).contains(&n) {
+        return false;
+    }
+    let deg = n - 1;
+    // q(u) = p(2u − 1): Taylor shift by −1, then scale by 2^j.
+    let mut q = [0.0f64; 13];
+    q[..n].copy_from_slice(c);
+    for i in 0..deg {
+        for j in (i..deg).rev() {
+            q[j] -= q[j + 1];
+        }
+    }
+    let mut scale = 1.0;
+    for qj in q[..n].iter_mut() {
+        *qj *= scale;
+        scale *= 2.0;
+    }
+    // b_i = Σ_{j ≤ i} C(i, j) / C(deg, j) · q_j
+    let ratio = &RATIO[deg];
+    let sign = q[0].signum();
+    let mut mags = 0.0f64;
+    let mut min_signed = f64::INFINITY;
+    for (i, row) in ratio[..n].iter().enumerate() {
+        let mut b = 0.0;
+        let mut m = 0.0;
+        for j in 0..=i {
+            let term = row[j] * q[j];
+            b += term;
+            m += term.abs();
+        }
+        let signed = b * sign;
+        if signed <= 0.0 {
+            return false;
+        }
+        mags = mags.max(m);
+        min_signed = min_signed.min(signed);
+    }
+    min_signed > 1e-12 * mags
 }
 
 /// All roots in [lo, hi] into a vector (tests and benches).
@@ -93,8 +177,118 @@ fn horner2(c: &[f64], x: f64) -> (f64, f64) {
     (f, df)
 }
 
-/// `N` bounds the degree + 1 (a compile-time size keeps the work arrays on
-/// the stack and small for the common low degrees).
+/// The cascade, run lazily: level k (the k-th derivative) hands out its
+/// roots one at a time, in increasing order, and asks level k + 1 for the
+/// next critical point only when it needs the end of its next monotonic
+/// piece. The first root of P (the nearest hit, a shadow ray's answer)
+/// therefore costs only the critical points before it. `N` bounds the
+/// degree + 1 (a compile-time size keeps the work arrays on the stack and
+/// small for the common low degrees).
+struct Cascade<const N: usize> {
+    deg: usize,
+    /// derivs[k] is the k-th derivative divided by a positive constant (only
+    /// signs and roots matter), chosen so that magnitudes stay near c's.
+    derivs: [[f64; N]; N],
+    hi: f64,
+    eps: f64,
+    /// Per level: the left end of the current piece and the value there.
+    a: [f64; N],
+    fa: [f64; N],
+    /// Per level: the right end of the current piece, once fetched.
+    b: [f64; N],
+    fb: [f64; N],
+    fetched: [bool; N],
+    done: [bool; N],
+    /// The quadratic level's roots, in order, and how many were handed out.
+    quad: [f64; 2],
+    quad_count: usize,
+    quad_next: usize,
+}
+
+impl<const N: usize> Cascade<N> {
+    fn new(c: &[f64], lo: f64, hi: f64, eps: f64) -> Self {
+        let deg = c.len() - 1;
+        debug_assert!((3..N).contains(&deg));
+        let mut derivs = [[0.0f64; N]; N];
+        derivs[0][..=deg].copy_from_slice(c);
+        for k in 1..=deg - 2 {
+            let m = deg - k;
+            for j in 0..=m {
+                // d/dt of derivs[k-1] (degree m+1), divided by (m+1).
+                derivs[k][j] = derivs[k - 1][j + 1] * (j + 1) as f64 / (m + 1) as f64;
+            }
+        }
+        let mut quad = [0.0; 2];
+        let mut quad_count = 0;
+        let q = &derivs[deg - 2];
+        if let Some((r0, r1)) = solve_quadratic(q[2], q[1], q[0]) {
+            for t in [r0, r1] {
+                if t > lo && t < hi && (quad_count == 0 || t > quad[quad_count - 1]) {
+                    quad[quad_count] = t;
+                    quad_count += 1;
+                }
+            }
+        }
+        let mut s = Cascade {
+            deg,
+            derivs,
+            hi,
+            eps,
+            a: [lo; N],
+            fa: [0.0; N],
+            b: [hi; N],
+            fb: [0.0; N],
+            fetched: [false; N],
+            done: [false; N],
+            quad,
+            quad_count,
+            quad_next: 0,
+        };
+        for k in 0..deg - 2 {
+            s.fa[k] = horner(s.poly(k), lo);
+        }
+        s
+    }
+
+    #[inline]
+    fn poly(&self, k: usize) -> &[f64] {
+        &self.derivs[k][..=self.deg - k]
+    }
+
+    /// The next root of level k in (a_k, hi], or `None`.
+    fn next(&mut self, k: usize) -> Option<f64> {
+        if k == self.deg - 2 {
+            let i = self.quad_next;
+            self.quad_next += 1;
+            return (i < self.quad_count).then(|| self.quad[i]);
+        }
+        // Critical points need not be exact: P is flat there, so an error
+        // δ in one moves P's value by O(δ²). Only level 0's roots are hits.
+        let eps = if k == 0 { self.eps } else { self.eps.max(1e-9) };
+        while !self.done[k] {
+            if !self.fetched[k] {
+                self.b[k] = self.next(k + 1).unwrap_or(self.hi);
+                self.fb[k] = horner(self.poly(k), self.b[k]);
+                self.fetched[k] = true;
+            }
+            let (a, b, fa, fb) = (self.a[k], self.b[k], self.fa[k], self.fb[k]);
+            self.a[k] = b;
+            self.fa[k] = fb;
+            self.fetched[k] = false;
+            if b >= self.hi {
+                self.done[k] = true;
+            }
+            if (fa < 0.0 && fb > 0.0) || (fa > 0.0 && fb < 0.0) {
+                return Some(bracketed(self.poly(k), a, b, fa, eps));
+            }
+            if fb == 0.0 && b > a {
+                return Some(b);
+            }
+        }
+        None
+    }
+}
+
 fn cascade<const N: usize>(
     c: &[f64],
     lo: f64,
@@ -102,75 +296,14 @@ fn cascade<const N: usize>(
     eps: f64,
     mut visit: impl FnMut(f64) -> bool,
 ) {
-    let deg = c.len() - 1;
-    debug_assert!(deg < N);
-    // derivs[k] is the k-th derivative divided by a positive constant (only
-    // signs and roots matter), chosen so that magnitudes stay near c's.
-    let mut derivs = [[0.0f64; N]; N];
-    derivs[0][..=deg].copy_from_slice(c);
-    for k in 1..deg {
-        let m = deg - k; // degree of derivs[k]
-        for j in 0..=m {
-            // d/dt of derivs[k-1] (degree m+1), divided by (m+1).
-            derivs[k][j] = derivs[k - 1][j + 1] * (j + 1) as f64 / (m + 1) as f64;
-        }
+    if horner(c, lo) == 0.0 && visit(lo) {
+        return;
     }
-    // Roots of the linear derivs[deg-1].
-    let mut roots = [0.0f64; N];
-    let mut count = 0;
-    {
-        let l = &derivs[deg - 1];
-        if l[1] != 0.0 {
-            let t = -l[0] / l[1];
-            if t > lo && t < hi {
-                roots[0] = t;
-                count = 1;
-            }
+    let mut s = Cascade::<N>::new(c, lo, hi, eps);
+    while let Some(r) = s.next(0) {
+        if visit(r) {
+            return;
         }
-    }
-    for k in (0..deg - 1).rev() {
-        let p = &derivs[k][..=deg - k];
-        let mut next = [0.0f64; N];
-        let mut found = 0;
-        let top = k == 0;
-        let mut a = lo;
-        let mut fa = horner(p, a);
-        if fa == 0.0 && top {
-            if visit(a) {
-                return;
-            }
-        } else if fa == 0.0 {
-            next[found] = a;
-            found += 1;
-        }
-        for &b in roots[..count].iter().chain(std::iter::once(&hi)) {
-            let fb = horner(p, b);
-            if (fa < 0.0 && fb > 0.0) || (fa > 0.0 && fb < 0.0) {
-                let r = bracketed(p, a, b, fa, eps);
-                if top {
-                    if visit(r) {
-                        return;
-                    }
-                } else {
-                    next[found] = r;
-                    found += 1;
-                }
-            }
-            if fb == 0.0 && b > a {
-                if top {
-                    if visit(b) {
-                        return;
-                    }
-                } else if b < hi {
-                    next[found] = b;
-                    found += 1;
-                }
-            }
-            a = b;
-            fa = fb;
-        }
-        roots = next;
-        count = found;
     }
 }
 

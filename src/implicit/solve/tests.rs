@@ -101,6 +101,19 @@ fn degree_40_with_few_real_roots() {
 }
 
 #[test]
+fn bernstein_cull_tells_clear_cases() {
+    // 2 + t² has no root; t² − 0.25 has two.
+    assert!(no_root_in_unit(&[2.0, 0.0, 1.0]));
+    assert!(!no_root_in_unit(&[-0.25, 0.0, 1.0]));
+    assert!(no_root_in_unit(&from_roots(&[1.5, -1.2, 3.0, 2.0], 0.0, 0)));
+    assert!(!no_root_in_unit(&from_roots(
+        &[1.5, -1.2, 0.3, 2.0],
+        0.0,
+        0
+    )));
+}
+
+#[test]
 fn nothing_on_a_zero_polynomial() {
     assert!(all_roots(&[0.0, 0.0, 0.0], -1.0, 1.0, 1e-12).is_empty());
     assert!(all_roots(&[1.0, 0.0, 0.0, 0.0, 0.0], -1.0, 1.0, 1e-12).is_empty());
@@ -108,6 +121,22 @@ fn nothing_on_a_zero_polynomial() {
 
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(300))]
+
+    #[test]
+    fn the_bernstein_cull_never_hides_a_root(c in prop::collection::vec(-2.0f64..2.0, 2..13), shift in -1.5f64..1.5) {
+        // Shift the constant so that roots are likely near the interval.
+        let mut c = c;
+        c[0] += shift;
+        if no_root_in_unit(&c) {
+            let dense = (0..=2000).map(|i| horner(&c, -1.0 + i as f64 / 1000.0));
+            let (mut pos, mut neg) = (false, false);
+            for v in dense {
+                pos |= v >= 0.0;
+                neg |= v <= 0.0;
+            }
+            prop_assert!(!(pos && neg), "culled a polynomial with a sign change: {c:?}");
+        }
+    }
 
     #[test]
     fn finds_known_roots(
