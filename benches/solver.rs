@@ -114,7 +114,12 @@ fn bench(cr: &mut Criterion) {
     for deg in [4, 6, 12] {
         let polys = family(deg);
         g.bench_with_input(BenchmarkId::from_parameter(deg), &polys, |b, polys| {
-            b.iter(|| polys.iter().filter(|p| no_root_in_unit(black_box(p))).count())
+            b.iter(|| {
+                polys
+                    .iter()
+                    .filter(|p| no_root_in_unit(black_box(p)))
+                    .count()
+            })
         });
     }
     g.finish();

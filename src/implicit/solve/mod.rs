@@ -279,7 +279,7 @@ impl<const N: usize> Cascade<N> {
                 self.done[k] = true;
             }
             if (fa < 0.0 && fb > 0.0) || (fa > 0.0 && fb < 0.0) {
-                return Some(bracketed(self.poly(k), a, b, fa, eps));
+                return Some(bracketed(self.poly(k), a, b, fa, fb, eps));
             }
             if fb == 0.0 && b > a {
                 return Some(b);
@@ -308,11 +308,15 @@ fn cascade<const N: usize>(
 }
 
 /// The root of `p` in [a, b], where p(a) = fa and p(b) have opposite signs
-/// and p is monotonic. Newton from the secant guess; every iterate updates
-/// the bracket, and a step that leaves it is replaced by bisection.
-fn bracketed(p: &[f64], mut a: f64, mut b: f64, fa: f64, eps: f64) -> f64 {
+/// and p is monotonic. Newton from the secant guess (on a monotonic piece
+/// it is usually close); every iterate updates the bracket, and a step that
+/// leaves it is replaced by bisection, so it can neither diverge nor cycle.
+fn bracketed(p: &[f64], mut a: f64, mut b: f64, fa: f64, fb: f64, eps: f64) -> f64 {
     let neg_at_a = fa < 0.0;
-    let mut x = 0.5 * (a + b);
+    let mut x = a - fa * (b - a) / (fb - fa);
+    if !(x > a && x < b) {
+        x = 0.5 * (a + b);
+    }
     for _ in 0..100 {
         let (f, df) = horner2(p, x);
         if f == 0.0 {
