@@ -221,7 +221,7 @@ fn zero_gradient_points_get_a_normal() {
 #[ignore]
 fn timing() {
     let size = 1000;
-    let mut run = |name: &str, scene: Scene| {
+    let run = |name: &str, scene: Scene| {
         let (_, stats) = draw(scene);
         let rays = stats.rays.total();
         eprintln!(

@@ -81,7 +81,7 @@ const BINOM: [[f64; 13]; 13] = {
 
 /// RATIO[deg][i][j] = C(i, j) / C(deg, j): power basis on [0, 1] to
 /// Bernstein, computed at compile time (divisions per ray are slow).
-const RATIO: [[[f64; 13]; 13]; 13] = {
+static RATIO: [[[f64; 13]; 13]; 13] = {
     let mut t = [[[0.0; 13]; 13]; 13];
     let mut d = 0;
     while d < 13 {
