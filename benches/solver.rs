@@ -31,7 +31,7 @@ fn family(deg: usize) -> Vec<Vec<f64>> {
     (0..64)
         .map(|_| {
             let mut c = vec![1.0];
-            let real = if deg % 2 == 0 { 2 } else { 1 };
+            let real = if deg.is_multiple_of(2) { 2 } else { 1 };
             for _ in 0..real {
                 c = mul(&c, &[-(rnd() * 1.8 - 0.9), 1.0]);
             }
