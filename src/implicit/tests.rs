@@ -240,3 +240,52 @@ proptest! {
         let _ = Equation::compile(&s, &consts);
     }
 }
+
+/// How an equation error looks once the builder hands it to miette (here
+/// with the string itself as the source; the builder shifts the span into
+/// the .rt file instead).
+#[derive(Debug, thiserror::Error, miette::Diagnostic)]
+#[error("{message}")]
+struct Shown {
+    message: String,
+    #[source_code]
+    src: miette::NamedSource<String>,
+    #[label("here")]
+    at: miette::SourceSpan,
+    #[help]
+    help: Option<String>,
+}
+
+fn render_error(text: &str) -> String {
+    let errors = compile(text).err().expect("an error");
+    let mut out = String::new();
+    for e in errors {
+        let shown = Shown {
+            message: e.message,
+            src: miette::NamedSource::new("equation", text.to_string()),
+            at: (e.span.start, e.span.len()).into(),
+            help: e.help,
+        };
+        miette::GraphicalReportHandler::new_themed(miette::GraphicalTheme::unicode_nocolor())
+            .with_width(80)
+            .render_report(&mut out, &shown)
+            .expect("rendering to a string");
+    }
+    out
+}
+
+#[test]
+fn diagnostic_snapshots() {
+    for (name, text) in [
+        ("unknown_variable", "x^2 + w^2 - 1"),
+        ("one_name", "xy + z - 1"),
+        ("non_integer_exponent", "x^2.5 + y - 1"),
+        ("root_of_degree_0", "(x^2 + y^2)_0 - 1"),
+        ("degree_cap", "x^50 + y^2 - 1"),
+        ("division", "x^2 / (y + 1) - 1"),
+        ("empty", ""),
+        ("syntax", "x^2 + * y"),
+    ] {
+        insta::assert_snapshot!(name, render_error(text));
+    }
+}
