@@ -317,6 +317,11 @@ fn bracketed(p: &[f64], mut a: f64, mut b: f64, fa: f64, fb: f64, eps: f64) -> f
     if !(x > a && x < b) {
         x = 0.5 * (a + b);
     }
+    // Newton converges quadratically: once a Newton step is below √eps,
+    // the point it lands on is within about eps of the root, so it is
+    // returned without another evaluation. Bisection steps only stop on
+    // the bracket's width.
+    let step_tol = eps.sqrt() * 0.1;
     for _ in 0..100 {
         let (f, df) = horner2(p, x);
         if f == 0.0 {
@@ -327,14 +332,18 @@ fn bracketed(p: &[f64], mut a: f64, mut b: f64, fa: f64, fb: f64, eps: f64) -> f
         } else {
             b = x;
         }
-        let mut nx = x - f / df;
-        if !(nx > a && nx < b) {
-            nx = 0.5 * (a + b);
+        let nx = x - f / df;
+        if nx > a && nx < b {
+            if (nx - x).abs() <= step_tol {
+                return nx;
+            }
+            x = nx;
+        } else {
+            x = 0.5 * (a + b);
         }
-        if (nx - x).abs() <= eps || b - a <= eps {
-            return nx;
+        if b - a <= eps {
+            return x;
         }
-        x = nx;
     }
     x
 }
