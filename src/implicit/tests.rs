@@ -257,7 +257,7 @@ struct Shown {
 }
 
 fn render_error(text: &str) -> String {
-    let errors = compile(text).err().expect("an error");
+    let errors = compile(text).expect_err("an error");
     let mut out = String::new();
     for e in errors {
         let shown = Shown {
