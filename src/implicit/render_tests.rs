@@ -263,3 +263,37 @@ fn profile_one() {
     let (_, stats) = draw(scene);
     eprintln!("{:.3} s, {} rays", stats.seconds, stats.rays.total());
 }
+
+/// The automatic box clips nothing: over random rays, the surface with it
+/// is hit exactly where the surface in a huge given box is.
+#[test]
+fn automatic_boxes_clip_nothing() {
+    // Wide, but not absurdly: a box 50 times the surface's size makes the
+    // coefficients over its chord lose the digits a singular point needs.
+    let huge = Aabb::new(DVec3::splat(-6.0), DVec3::splat(6.0));
+    let consts = |n: &str| match n {
+        "R" => Some(2.0),
+        "r" => Some(0.5),
+        _ => None,
+    };
+    let mut checked = 0;
+    for (text, _) in CONVENTIONS {
+        let auto = ImplicitSurface::new(Equation::compile(text, &consts).unwrap(), None, 0);
+        if auto.bound_source() != BoundSource::Automatic {
+            continue;
+        }
+        checked += 1;
+        let wide = ImplicitSurface::new(Equation::compile(text, &consts).unwrap(), Some(huge), 0);
+        let rays = testing::rays_towards(DVec3::ZERO, 2.5, 1500, 17);
+        for r in &rays {
+            let a = auto.intersect(r, 1e-9, f64::INFINITY).map(|h| h.t);
+            let b = wide.intersect(r, 1e-9, f64::INFINITY).map(|h| h.t);
+            match (a, b) {
+                (Some(x), Some(y)) => assert!((x - y).abs() < 1e-6, "{text}: {x} vs {y}"),
+                (None, None) => {}
+                _ => panic!("{text}: {a:?} vs {b:?} on {r:?}"),
+            }
+        }
+    }
+    assert!(checked >= 6, "only {checked} bounded equations");
+}
