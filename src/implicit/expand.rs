@@ -241,7 +241,7 @@ fn suggest(name: &str, constant: &dyn Fn(&str) -> Option<f64>) -> String {
     if matches!(lower.as_str(), "x" | "y" | "z") {
         return format!("did you mean `{lower}`? Variables are lower case");
     }
-    "the variables are x, y and z; other names must be numeric constants defined with `let`".into()
+    "did you mean `x`, `y` or `z`? Other names must be numeric constants defined with `let`".into()
 }
 
 fn split_known<'a>(name: &'a str, known: &dyn Fn(&str) -> bool) -> Option<Vec<&'a str>> {

@@ -8,7 +8,7 @@ use std::collections::BTreeMap;
 /// terms multiplied per product: both stop a hostile equation such as
 /// `(x+y+z)^100000` before it takes the machine's memory or time.
 pub const INTERNAL_DEGREE: u32 = 400;
-const MAX_WORK: usize = 40_000_000;
+const MAX_WORK: usize = 8_000_000;
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct Poly {
