@@ -87,6 +87,7 @@ fn main() {
             max_depth: 4,
             background: Colour::new(0.05, 0.05, 0.1),
             transfer: Transfer::Linear,
+            samples: 1,
         },
         ambient: Colour::splat(0.1),
         lights: vec![Light {

@@ -1,0 +1,299 @@
+//! Render-level tests of implicit surfaces, with scenes built in code.
+
+use super::scenes::{self, TorusKind};
+use super::tests::CONVENTIONS;
+use super::*;
+use crate::accel::World;
+use crate::geometry::{Ray, Transform};
+use crate::render::{RenderOptions, render};
+use crate::scene::{Camera, Projection, Scene};
+use crate::shapes::{Shape, Sphere, Torus, Transformed, testing};
+
+fn compile(s: &str) -> Equation {
+    Equation::compile(s, &|_| None).unwrap_or_else(|e| panic!("{s}: {e:?}"))
+}
+
+fn draw(mut scene: Scene) -> (crate::render::Film, crate::render::RenderStats) {
+    let world = World::build(std::mem::take(&mut scene.objects));
+    render(&scene, &world, &RenderOptions { progress: None }).expect("the camera has a frame")
+}
+
+/// The power cube's solid contains the unit ball (Σ|p_i|^N ≤ Σ p_i² ≤ 1
+/// there) and lies inside the cube [−1, 1]³. So a camera ray that enters
+/// the ball must hit the surface, between entering the cube and entering
+/// the ball; a ray that misses the cube must miss the surface. With the
+/// normal facing the ray, that catches both missed roots (holes) and wrong
+/// roots (speckle), for every pixel.
+#[test]
+fn power_cube_is_clean_to_order_40() {
+    let size = 160;
+    let ball = Sphere::new(DVec3::ZERO, 1.0, 0);
+    let cube = Aabb::new(DVec3::splat(-1.0), DVec3::splat(1.0));
+    for n in (4..=40).step_by(2) {
+        let scene = scenes::power_cube(n, size);
+        let shape = &scene.objects[0];
+        let rays = scene.camera.pixel_rays(size, size).unwrap();
+        let mut hits = 0;
+        for b in 0..size {
+            for a in 0..size {
+                let ray = rays.ray(a, b);
+                let hit = shape.intersect(&ray, 0.0, f64::INFINITY);
+                let enter_cube = cube.clip(&ray, 0.0, f64::INFINITY).map(|(t, _)| t);
+                let enter_ball = ball.intersect(&ray, 0.0, f64::INFINITY).map(|h| h.t);
+                match (hit, enter_cube, enter_ball) {
+                    (None, _, Some(_)) => panic!("N={n}: hole at pixel ({a}, {b})"),
+                    (Some(h), None, _) => panic!("N={n}: stray hit at ({a}, {b}): {h:?}"),
+                    (Some(h), Some(tc), tb) => {
+                        hits += 1;
+                        assert!(h.t >= tc - 1e-9, "N={n} ({a},{b}): hit before the cube");
+                        if let Some(tb) = tb {
+                            assert!(h.t <= tb + 1e-9, "N={n} ({a},{b}): hit behind the ball");
+                        }
+                        let p = ray.at(h.t);
+                        let pn: f64 = (0..3).map(|i| p[i].powi(n as i32)).sum();
+                        assert!((pn - 1.0).abs() < 1e-6, "N={n}: point off the surface");
+                        assert!(
+                            h.normal.is_finite() && h.normal.dot(ray.dir) < 0.0,
+                            "N={n}: normal"
+                        );
+                    }
+                    (None, _, None) => {}
+                }
+            }
+        }
+        assert!(
+            hits > (size * size / 10) as usize,
+            "N={n}: only {hits} hits"
+        );
+    }
+}
+
+fn look_at_origin(objects: Vec<Box<dyn Shape>>, position: DVec3) -> Scene {
+    let mut s = scenes::power_cube(2, 64);
+    s.camera = Camera {
+        position,
+        look_at: DVec3::ZERO,
+        up: DVec3::Y,
+        projection: Projection::Fov(50.0),
+    };
+    s.objects = objects;
+    s
+}
+
+#[test]
+fn every_conventions_equation_renders_a_picture() {
+    let consts = |n: &str| match n {
+        "R" => Some(2.0),
+        "r" => Some(0.5),
+        _ => None,
+    };
+    for (text, _) in CONVENTIONS {
+        let eq = Equation::compile(text, &consts).unwrap();
+        let shape = ImplicitSurface::new(eq, None, 1);
+        let (film, _) = draw(look_at_origin(
+            vec![Box::new(shape)],
+            DVec3::new(5.0, 4.0, 9.0),
+        ));
+        let bg = [0.05f32, 0.05, 0.1];
+        let lit = film.pixels.iter().filter(|p| **p != bg).count();
+        assert!(
+            lit > film.pixels.len() / 50,
+            "{text}: only {lit} pixels drawn"
+        );
+        assert!(
+            film.pixels.iter().flatten().all(|v| v.is_finite()),
+            "{text}: NaN pixel"
+        );
+    }
+}
+
+/// Same hits (within `tol` in t) and same unit normals over random rays.
+fn agree(a: &dyn Shape, b: &dyn Shape, rays: &[Ray], tol: f64) {
+    let mut hits = 0;
+    for r in rays {
+        let ha = a.intersect(r, 1e-9, f64::INFINITY);
+        let hb = b.intersect(r, 1e-9, f64::INFINITY);
+        match (ha, hb) {
+            (None, None) => {}
+            (Some(x), Some(y)) => {
+                hits += 1;
+                assert!((x.t - y.t).abs() < tol, "t {} vs {} on {r:?}", x.t, y.t);
+                let (nx, ny) = (x.normal.normalize(), y.normal.normalize());
+                assert!((nx - ny).length() < 1e-6, "normal {nx} vs {ny} on {r:?}");
+            }
+            (x, y) => panic!("{x:?} vs {y:?} on {r:?}"),
+        }
+        let (mut xa, mut xb) = (Vec::new(), Vec::new());
+        a.crossings(r, &mut xa);
+        b.crossings(r, &mut xb);
+        assert_eq!(xa.len(), xb.len(), "crossings on {r:?}");
+    }
+    assert!(hits > rays.len() / 10, "too few hits to compare: {hits}");
+}
+
+#[test]
+fn implicit_sphere_matches_the_primitive() {
+    let sphere = Sphere::new(DVec3::ZERO, 1.0, 0);
+    let rays = testing::rays_towards(DVec3::ZERO, 1.5, 3000, 11);
+    for text in ["x^2 + y^2 + z^2 - 1", "(x^2 + y^2 + z^2)_2 = 1"] {
+        let auto = ImplicitSurface::new(compile(text), None, 0);
+        assert_eq!(auto.bound_source(), BoundSource::Automatic);
+        agree(&auto, &sphere, &rays, 1e-9);
+        testing::check_consistency(&auto, &rays);
+    }
+}
+
+#[test]
+fn four_tori_agree() {
+    // The nested-root and textbook forms have their ring in the x-y plane
+    // (about z); conventions.md's expanded form has it in the x-z plane
+    // (about y), like the primitive.
+    let about_z: Box<dyn Shape> = Box::new(Transformed::new(
+        Box::new(Torus::new(1.5, 0.5, 0)),
+        Transform::rotate(DVec3::X, 90.0).unwrap(),
+    ));
+    let about_y: Box<dyn Shape> = Box::new(Torus::new(1.5, 0.5, 0));
+    let routes = [
+        (
+            "(((x^2 + y^2)_2 - 1.5)^2 + z^2)_2 - 0.5",
+            &about_z,
+            DVec3::new(2.0, 2.0, 0.5),
+        ),
+        (
+            "x^4 + 2x^2*y^2 + 2x^2*z^2 - 2*(1.5^2 + 0.5^2)*x^2 + y^4 + 2y^2*z^2 + 2*(1.5^2 - 0.5^2)*y^2 + z^4 - 2*(1.5^2 + 0.5^2)*z^2 + (1.5^2 - 0.5^2)^2",
+            &about_y,
+            DVec3::new(2.0, 0.5, 2.0),
+        ),
+        (
+            "(x^2+y^2+z^2+1.5^2-0.5^2)^2 - 4*1.5^2(x^2+y^2)",
+            &about_z,
+            DVec3::new(2.0, 2.0, 0.5),
+        ),
+    ];
+    let rays = testing::rays_towards(DVec3::ZERO, 2.0, 3000, 5);
+    for (text, native, half) in routes {
+        let auto = ImplicitSurface::new(compile(text), None, 0);
+        agree(&auto, native.as_ref(), &rays, 1e-8);
+        testing::check_consistency(&auto, &rays);
+        let given = ImplicitSurface::new(compile(text), Some(Aabb::new(-half, half)), 0);
+        agree(&given, native.as_ref(), &rays, 1e-8);
+    }
+    // And the same picture: the benchmark scene both ways.
+    let (a, _) = draw(scenes::torus(TorusKind::Implicit, 120));
+    let (b, _) = draw(scenes::torus(TorusKind::Native, 120));
+    let differ = a
+        .pixels
+        .iter()
+        .zip(&b.pixels)
+        .filter(|(p, q)| p.iter().zip(q.iter()).any(|(x, y)| (x - y).abs() > 1e-3))
+        .count();
+    assert!(differ <= 2, "{differ} pixels differ");
+}
+
+#[test]
+fn unbounded_surfaces_say_so_and_render() {
+    let plane = ImplicitSurface::new(compile("x"), None, 0);
+    assert_eq!(plane.bound_source(), BoundSource::Unbounded);
+    assert!(plane.bound_note().is_some());
+    let r = Ray::new(DVec3::new(3.0, 0.2, 0.1), DVec3::new(-2.0, 0.0, 0.0));
+    let h = plane.intersect(&r, 0.0, f64::INFINITY).unwrap();
+    assert!((h.t - 1.5).abs() < 1e-12);
+    let bounded = ImplicitSurface::new(compile("x^2 + y^2 + z^2 - 1"), None, 0);
+    assert!(bounded.bound_note().is_none());
+}
+
+#[test]
+fn zero_gradient_points_get_a_normal() {
+    // The cone x² + y² − z² has a zero gradient at its apex.
+    let cone = ImplicitSurface::new(compile("x^2 + y^2 - z^2"), None, 0);
+    let r = Ray::new(DVec3::new(0.0, 0.0, 5.0), DVec3::new(0.0, 0.0, -1.0));
+    let h = cone.intersect(&r, 0.0, f64::INFINITY).unwrap();
+    assert!(h.t.is_finite() && (h.t - 5.0).abs() < 1e-6);
+    assert!(h.normal.is_finite() && h.normal.length() > 0.0);
+    // The heart renders without a NaN pixel.
+    let (film, _) = draw(scenes::sextic(64));
+    assert!(film.pixels.iter().flatten().all(|v| v.is_finite()));
+}
+
+/// Timings of the benchmark scenes (release build):
+/// `cargo test --release --lib implicit::render_tests::timing -- --ignored --nocapture`
+#[test]
+#[ignore]
+fn timing() {
+    let size = 1000;
+    let run = |name: &str, scene: Scene| {
+        let (_, stats) = draw(scene);
+        let rays = stats.rays.total();
+        eprintln!(
+            "{name:<24} {:>7.3} s  {:>9} rays  {:>6.2} M rays/s",
+            stats.seconds,
+            rays,
+            rays as f64 / stats.seconds / 1e6
+        );
+    };
+    run("torus (implicit)", scenes::torus(TorusKind::Implicit, size));
+    run(
+        "torus (implicit, auto)",
+        scenes::torus(TorusKind::ImplicitAutoBound, size),
+    );
+    run("torus (native)", scenes::torus(TorusKind::Native, size));
+    run("sextic", scenes::sextic(size));
+    for n in [4, 6, 8, 10, 12, 14, 16, 20, 30, 40] {
+        run(
+            &format!("power cube N={n} (300px)"),
+            scenes::power_cube(n, 300),
+        );
+    }
+}
+
+/// One scene for profiling: `RT_SCENE=torus|sextic|native`.
+#[test]
+#[ignore]
+fn profile_one() {
+    let scene = match std::env::var("RT_SCENE").as_deref() {
+        Ok("sextic") => scenes::sextic(1000),
+        Ok("native") => scenes::torus(TorusKind::Native, 1000),
+        Ok("floor") => {
+            let mut s = scenes::torus(TorusKind::Native, 1000);
+            s.objects.truncate(1);
+            s
+        }
+        _ => scenes::torus(TorusKind::Implicit, 1000),
+    };
+    let (_, stats) = draw(scene);
+    eprintln!("{:.3} s, {} rays", stats.seconds, stats.rays.total());
+}
+
+/// The automatic box clips nothing: over random rays, the surface with it
+/// is hit exactly where the surface in a huge given box is.
+#[test]
+fn automatic_boxes_clip_nothing() {
+    // Wide, but not absurdly: a box 50 times the surface's size makes the
+    // coefficients over its chord lose the digits a singular point needs.
+    let huge = Aabb::new(DVec3::splat(-6.0), DVec3::splat(6.0));
+    let consts = |n: &str| match n {
+        "R" => Some(2.0),
+        "r" => Some(0.5),
+        _ => None,
+    };
+    let mut checked = 0;
+    for (text, _) in CONVENTIONS {
+        let auto = ImplicitSurface::new(Equation::compile(text, &consts).unwrap(), None, 0);
+        if auto.bound_source() != BoundSource::Automatic {
+            continue;
+        }
+        checked += 1;
+        let wide = ImplicitSurface::new(Equation::compile(text, &consts).unwrap(), Some(huge), 0);
+        let rays = testing::rays_towards(DVec3::ZERO, 2.5, 1500, 17);
+        for r in &rays {
+            let a = auto.intersect(r, 1e-9, f64::INFINITY).map(|h| h.t);
+            let b = wide.intersect(r, 1e-9, f64::INFINITY).map(|h| h.t);
+            match (a, b) {
+                (Some(x), Some(y)) => assert!((x - y).abs() < 1e-6, "{text}: {x} vs {y}"),
+                (None, None) => {}
+                _ => panic!("{text}: {a:?} vs {b:?} on {r:?}"),
+            }
+        }
+    }
+    assert!(checked >= 6, "only {checked} bounded equations");
+}

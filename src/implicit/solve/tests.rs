@@ -1,0 +1,193 @@
+use super::*;
+use proptest::prelude::*;
+
+/// Coefficients of ∏(t − r_i) · (1 + s·t²)^m, lowest first.
+fn from_roots(roots: &[f64], s: f64, m: usize) -> Vec<f64> {
+    let mut c = vec![1.0];
+    let mul = |c: &Vec<f64>, f: &[f64]| {
+        let mut out = vec![0.0; c.len() + f.len() - 1];
+        for (i, a) in c.iter().enumerate() {
+            for (j, b) in f.iter().enumerate() {
+                out[i + j] += a * b;
+            }
+        }
+        out
+    };
+    for &r in roots {
+        c = mul(&c, &[-r, 1.0]);
+    }
+    for _ in 0..m {
+        c = mul(&c, &[1.0, 0.0, s]);
+    }
+    c
+}
+
+fn check(roots: &[f64], found: &[f64], tol: f64) {
+    let mut want: Vec<f64> = roots.to_vec();
+    want.sort_by(f64::total_cmp);
+    assert_eq!(found.len(), want.len(), "want {want:?}, found {found:?}");
+    for (w, f) in want.iter().zip(found) {
+        assert!((w - f).abs() < tol, "want {want:?}, found {found:?}");
+    }
+}
+
+#[test]
+fn low_degrees() {
+    check(
+        &[0.5],
+        &all_roots(&from_roots(&[0.5], 0.0, 0), -1.0, 1.0, 1e-14),
+        1e-12,
+    );
+    check(
+        &[-0.3, 0.7],
+        &all_roots(&from_roots(&[-0.3, 0.7], 0.0, 0), -1.0, 1.0, 1e-14),
+        1e-12,
+    );
+    let r = [-0.9, 0.1, 0.2];
+    check(
+        &r,
+        &all_roots(&from_roots(&r, 0.0, 0), -1.0, 1.0, 1e-14),
+        1e-10,
+    );
+    let r = [-0.5, -0.49, 0.3, 0.95];
+    check(
+        &r,
+        &all_roots(&from_roots(&r, 0.0, 0), -1.0, 1.0, 1e-14),
+        1e-10,
+    );
+    // Outside the interval: ignored.
+    check(
+        &[0.5],
+        &all_roots(&from_roots(&[0.5, 3.0, -2.0], 0.0, 0), -1.0, 1.0, 1e-14),
+        1e-10,
+    );
+}
+
+#[test]
+fn close_and_repeated_roots() {
+    // Two roots 1e-6 apart are still told apart.
+    let r = [0.25, 0.250001, -0.6];
+    check(
+        &r,
+        &all_roots(&from_roots(&r, 0.0, 0), -1.0, 1.0, 1e-15),
+        1e-9,
+    );
+    // A triple root changes sign: found once, to about eps^(1/3).
+    let c = from_roots(&[0.4, 0.4, 0.4, -0.2], 0.0, 0);
+    let f = all_roots(&c, -1.0, 1.0, 1e-15);
+    assert_eq!(f.len(), 2, "{f:?}");
+    assert!(
+        (f[0] + 0.2).abs() < 1e-9 && (f[1] - 0.4).abs() < 1e-4,
+        "{f:?}"
+    );
+    // A double root (a grazing ray) may be reported or not, but no false
+    // root may appear and the simple roots must be found.
+    let c = from_roots(&[0.1, 0.1, 0.7, -0.8], 0.0, 0);
+    let f = all_roots(&c, -1.0, 1.0, 1e-15);
+    assert!(f.iter().any(|t| (t - 0.7).abs() < 1e-9));
+    assert!(f.iter().any(|t| (t + 0.8).abs() < 1e-9));
+    assert!(
+        f.iter()
+            .all(|t| [0.1, 0.7, -0.8].iter().any(|r| (t - r).abs() < 1e-5))
+    );
+}
+
+#[test]
+fn degree_40_with_few_real_roots() {
+    let r = [-0.7, 0.05, 0.9];
+    let c = from_roots(&r, 3.0, 18);
+    assert_eq!(c.len(), 40);
+    check(&r, &all_roots(&c, -1.0, 1.0, 1e-15), 1e-9);
+}
+
+#[test]
+fn bernstein_cull_tells_clear_cases() {
+    // 2 + t² has no root; t² − 0.25 has two.
+    assert!(no_root_in_unit(&[2.0, 0.0, 1.0]));
+    assert!(!no_root_in_unit(&[-0.25, 0.0, 1.0]));
+    assert!(no_root_in_unit(&from_roots(&[1.5, -1.2, 3.0, 2.0], 0.0, 0)));
+    assert!(!no_root_in_unit(&from_roots(
+        &[1.5, -1.2, 0.3, 2.0],
+        0.0,
+        0
+    )));
+}
+
+#[test]
+fn nothing_on_a_zero_polynomial() {
+    assert!(all_roots(&[0.0, 0.0, 0.0], -1.0, 1.0, 1e-12).is_empty());
+    assert!(all_roots(&[1.0, 0.0, 0.0, 0.0, 0.0], -1.0, 1.0, 1e-12).is_empty());
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(300))]
+
+    #[test]
+    fn the_bernstein_cull_never_hides_a_root(c in prop::collection::vec(-2.0f64..2.0, 2..13), shift in -1.5f64..1.5) {
+        // Shift the constant so that roots are likely near the interval.
+        let mut c = c;
+        c[0] += shift;
+        if no_root_in_unit(&c) {
+            let dense = (0..=2000).map(|i| horner(&c, -1.0 + i as f64 / 1000.0));
+            let (mut pos, mut neg) = (false, false);
+            for v in dense {
+                pos |= v >= 0.0;
+                neg |= v <= 0.0;
+            }
+            prop_assert!(!(pos && neg), "culled a polynomial with a sign change: {c:?}");
+        }
+    }
+
+    #[test]
+    fn finds_known_roots(
+        roots in prop::collection::vec(-0.95f64..0.95, 1..7),
+        m in 0usize..17,
+        s in 0.5f64..4.0,
+    ) {
+        // Separated simple roots (closeness is tested above), times a factor
+        // without real roots to reach up to degree 40.
+        let mut rs = roots.clone();
+        rs.sort_by(f64::total_cmp);
+        prop_assume!(rs.windows(2).all(|w| w[1] - w[0] > 1e-3));
+        let c = from_roots(&rs, s, m);
+        let f = all_roots(&c, -1.0, 1.0, 1e-15);
+        check(&rs, &f, 1e-7);
+    }
+
+    #[test]
+    fn power_cube_lines(n in 2u32..21, a in prop::array::uniform4(-1.01f64..1.01)) {
+        // x^2n + y^2n − 1 along a chord of the box [−1.01, 1.01]² between
+        // (a0, a1) and (a2, a3), parameterised as the surface does it
+        // (midpoint o, half-chord d, s in [−1, 1]): every reported root is a
+        // root, and the count matches sign changes on a fine grid.
+        let (ox, oy) = (0.5 * (a[0] + a[2]), 0.5 * (a[1] + a[3]));
+        let (dx, dy) = (0.5 * (a[2] - a[0]), 0.5 * (a[3] - a[1]));
+        let n = 2 * n as usize;
+        let mut c = vec![0.0; n + 1];
+        for (o, d) in [(ox, dx), (oy, dy)] {
+            let mut binom = 1.0;
+            for (j, cj) in c.iter_mut().enumerate() {
+                *cj += binom * o.powi((n - j) as i32) * d.powi(j as i32);
+                binom = binom * (n - j) as f64 / (j + 1) as f64;
+            }
+        }
+        c[0] -= 1.0;
+        let f = |t: f64| (ox + t * dx).powi(n as i32) + (oy + t * dy).powi(n as i32) - 1.0;
+        let found = all_roots(&c, -1.0, 1.0, 1e-14);
+        for t in &found {
+            // Near a root the direct form changes sign within a small step.
+            let h = 1e-6;
+            prop_assert!(f(t - h) * f(t + h) <= 0.0 || f(*t).abs() < 1e-6, "t={t} f={}", f(*t));
+        }
+        let mut changes = 0;
+        let steps = 4000;
+        let mut prev = f(-1.0);
+        for i in 1..=steps {
+            let v = f(-1.0 + 2.0 * i as f64 / steps as f64);
+            if (prev < 0.0) != (v < 0.0) { changes += 1; }
+            prev = v;
+        }
+        // A grid may skip a pair of roots closer than its step, never add.
+        prop_assert!(found.len() >= changes, "found {found:?}, grid sign changes {changes}");
+    }
+}
