@@ -630,7 +630,7 @@ impl Builder<'_> {
                 None => {
                     self.err(
                         Error::new(n.span, format!("`{}` is not an axis", n.node))
-                            .label("expected `x`, `y` or `z`")
+                            .label("expected `x`, `y`, `z` (or a vector for `rotate`)")
                             .maybe_help(did_you_mean(n.node, ["x", "y", "z"])),
                     );
                     None
@@ -664,8 +664,11 @@ impl Builder<'_> {
         match q.name.node.as_str() {
             "translate" => self.vec3(&v[0]).map(|(d, _)| Transform::translate(d)),
             "rotate" => {
-                let axis = match v[0].as_name().and_then(|n| axis_index(n.node)) {
-                    Some(a) => Some(DVec3::AXES[a]),
+                let bare = v[0]
+                    .as_name()
+                    .filter(|n| !self.env.constants.contains_key(n.node));
+                let axis = match bare {
+                    Some(_) => self.axis(&v[0]).map(|a| DVec3::AXES[a]),
                     None => match self.vec3(&v[0]) {
                         Some((a, _)) if a.length() > 0.0 => Some(a),
                         Some((_, s)) => {
