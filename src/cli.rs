@@ -39,4 +39,9 @@ pub struct Args {
     /// No progress bar.
     #[arg(short, long)]
     pub quiet: bool,
+
+    /// Render images larger than 100 megapixels (which need over a
+    /// gigabyte of memory).
+    #[arg(long)]
+    pub allow_large: bool,
 }

@@ -37,6 +37,7 @@ pub fn run(args: &Args) -> Result<()> {
     let parsed = clock.elapsed();
     let mut scene = scene::build(&program)?;
     apply_overrides(args, &mut scene);
+    check_size(args, &scene.settings)?;
     let built = clock.elapsed();
     if args.check {
         return Ok(());
@@ -61,6 +62,25 @@ fn apply_overrides(args: &Args, scene: &mut scene::Scene) {
     if let Some(h) = args.height {
         scene.settings.height = h.get();
     }
+}
+
+/// Images above this many pixels need `--allow-large`: the film alone
+/// takes 12 bytes a pixel.
+pub const MAX_PIXELS: u64 = 100_000_000;
+
+fn check_size(args: &Args, settings: &scene::RenderSettings) -> Result<()> {
+    let pixels = settings.width as u64 * settings.height as u64;
+    if pixels > MAX_PIXELS && !args.allow_large {
+        return Err(miette::miette!(
+            help = "pass --allow-large to render it anyway, or choose a smaller --width/--height",
+            "a {}x{} image has {} megapixels and needs about {} MiB of memory",
+            settings.width,
+            settings.height,
+            pixels / 1_000_000,
+            pixels * 12 / (1 << 20)
+        ));
+    }
+    Ok(())
 }
 
 fn render_with_progress(

@@ -1,38 +1,335 @@
-//! A cone (or frustum) along y (placeholder: the constructor's signature is fixed, the geometry is
-//! not written yet).
+//! A cone or frustum along y, open (a lampshade) or solid (capped by discs).
+//! The cylinder is the frustum with equal radii and shares this code.
+//!
+//! ```text
+//! cone { centre <0, 1, 0>  radius 1  height 2  material red }             // point at y = 2
+//! cone { radius 1  top_radius 0.5  height 1  top glass  bottom wood }     // capped frustum
+//! cone { radius 1  top_radius 0.5  height 1  open  material paper }       // no caps
+//! ```
+//! Base radius `radius` at centre.y − height/2, `top_radius` at centre.y +
+//! height/2. Texture space: side u = atan2(x − c.x, z − c.z)/2π wrapped to
+//! [0, 1), v = (y − c.y)/h + 0.5; each cap like a disc in its x-z plane,
+//! u = (x − c.x + r)/2r, v = (z − c.z + r)/2r with r that cap's radius.
 
-use super::{Hit, Shape};
-use crate::geometry::{Aabb, DVec3, Ray};
+use super::{Hit, Shape, solve_quadratic};
+use crate::geometry::{Aabb, DVec2, DVec3, Ray};
 use crate::scene::MaterialId;
+use std::f64::consts::PI;
 
 #[derive(Clone, Debug)]
 pub struct Cone {
-    _material: MaterialId,
+    frustum: Frustum,
 }
 
 impl Cone {
     /// Base radius `radius` at centre.y − height/2, `top_radius` at centre.y + height/2.
     pub fn new(
-        _centre: DVec3,
-        _radius: f64,
-        _top_radius: f64,
-        _height: f64,
+        centre: DVec3,
+        radius: f64,
+        top_radius: f64,
+        height: f64,
         side: MaterialId,
-        _caps: Option<[MaterialId; 2]>,
+        caps: Option<[MaterialId; 2]>,
     ) -> Self {
-        Cone { _material: side }
+        Cone {
+            frustum: Frustum::new(centre, radius, top_radius, height, side, caps),
+        }
     }
 }
 
 impl Shape for Cone {
-    fn intersect(&self, _ray: &Ray, _t_min: f64, _t_max: f64) -> Option<Hit> {
-        None
+    fn intersect(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<Hit> {
+        self.frustum.intersect(ray, t_min, t_max)
     }
-    fn crossings(&self, _ray: &Ray, _out: &mut Vec<Hit>) {}
+    fn crossings(&self, ray: &Ray, out: &mut Vec<Hit>) {
+        self.frustum.crossings(ray, out)
+    }
     fn bounds(&self) -> Aabb {
-        Aabb::EMPTY
+        self.frustum.bounds()
     }
     fn is_solid(&self) -> bool {
-        true
+        self.frustum.caps.is_some()
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Surface {
+    Side,
+    Top,
+    Bottom,
+}
+
+/// The surface x² + z² = r(y)² (relative to the centre) between two
+/// horizontal planes, where r runs linearly from `r0` at the bottom to `r1`
+/// at the top; with caps it is a convex solid.
+#[derive(Clone, Debug)]
+pub(super) struct Frustum {
+    centre: DVec3,
+    r0: f64,
+    r1: f64,
+    height: f64,
+    y0: f64,
+    y1: f64,
+    /// dr/dy.
+    slope: f64,
+    side: MaterialId,
+    /// `[top, bottom]`.
+    pub(super) caps: Option<[MaterialId; 2]>,
+    /// False for degenerate input (no height, no radius, NaN): such a shape
+    /// is simply never hit.
+    valid: bool,
+}
+
+/// Relative slack on the rim tests, so a ray through the very edge of a cap
+/// is not lost between the side's y-range test and the cap's radius test.
+const RIM: f64 = 1e-9;
+
+impl Frustum {
+    pub(super) fn new(
+        centre: DVec3,
+        r0: f64,
+        r1: f64,
+        height: f64,
+        side: MaterialId,
+        caps: Option<[MaterialId; 2]>,
+    ) -> Self {
+        let valid = centre.is_finite()
+            && r0.is_finite()
+            && r1.is_finite()
+            && height.is_finite()
+            && r0 >= 0.0
+            && r1 >= 0.0
+            && r0.max(r1) > 0.0
+            && height > 0.0;
+        Frustum {
+            centre,
+            r0,
+            r1,
+            height,
+            y0: centre.y - height / 2.0,
+            y1: centre.y + height / 2.0,
+            slope: if valid { (r1 - r0) / height } else { 0.0 },
+            side,
+            caps,
+            valid,
+        }
+    }
+
+    /// Candidate crossings along the whole line, unsorted: up to two on the
+    /// side, one per cap.
+    fn candidates(&self, ray: &Ray, out: &mut [(f64, Surface); 4]) -> usize {
+        let mut n = 0;
+        if !self.valid {
+            return 0;
+        }
+        let o = ray.origin - self.centre;
+        let d = ray.dir;
+        let (y0, y1) = (self.y0 - self.centre.y, self.y1 - self.centre.y);
+        let slack = RIM * self.height;
+        // Radius where the ray's origin height meets the (extended) surface.
+        let r_o = self.r0 + self.slope * (o.y - y0);
+        let k = self.slope;
+        let a = d.x * d.x + d.z * d.z - k * k * d.y * d.y;
+        let b = 2.0 * (o.x * d.x + o.z * d.z - k * r_o * d.y);
+        let c = o.x * o.x + o.z * o.z - r_o * r_o;
+        let mut side = |t: f64| {
+            let y = o.y + t * d.y;
+            if t.is_finite() && y >= y0 - slack && y <= y1 + slack {
+                out[n] = (t, Surface::Side);
+                n += 1;
+            }
+        };
+        if a != 0.0 {
+            if let Some((t0, t1)) = solve_quadratic(a, b, c) {
+                side(t0);
+                side(t1);
+            }
+        } else if b != 0.0 {
+            // Parallel to the axis (cylinder) or to a generator (cone): one root.
+            side(-c / b);
+        }
+        if self.caps.is_some() && d.y != 0.0 {
+            for (y, r, s) in [(y1, self.r1, Surface::Top), (y0, self.r0, Surface::Bottom)] {
+                let t = (y - o.y) / d.y;
+                let (x, z) = (o.x + t * d.x, o.z + t * d.z);
+                if r > 0.0 && x * x + z * z <= r * r * (1.0 + RIM) {
+                    out[n] = (t, s);
+                    n += 1;
+                }
+            }
+        }
+        n
+    }
+
+    fn hit_at(&self, ray: &Ray, t: f64, s: Surface) -> Hit {
+        let p = ray.at(t);
+        let q = p - self.centre;
+        let (normal, uv, material) = match s {
+            Surface::Side => {
+                let r = self.r0 + self.slope * (p.y - self.y0);
+                let n = DVec3::new(q.x, -r * self.slope, q.z);
+                // Only the apex has no normal; there the axis is the best guess.
+                let apex = if self.r0 > self.r1 {
+                    DVec3::Y
+                } else {
+                    -DVec3::Y
+                };
+                let mut u = q.x.atan2(q.z) / (2.0 * PI);
+                if u < 0.0 {
+                    u += 1.0;
+                }
+                let v = q.y / self.height + 0.5;
+                (
+                    n.try_normalize().unwrap_or(apex),
+                    DVec2::new(u.min(1.0 - f64::EPSILON), v),
+                    self.side,
+                )
+            }
+            Surface::Top | Surface::Bottom => {
+                let caps = self.caps.unwrap_or([self.side; 2]);
+                let (r, n, m) = if s == Surface::Top {
+                    (self.r1, DVec3::Y, caps[0])
+                } else {
+                    (self.r0, -DVec3::Y, caps[1])
+                };
+                let uv = DVec2::new((q.x + r) / (2.0 * r), (q.z + r) / (2.0 * r));
+                (n, uv, m)
+            }
+        };
+        Hit {
+            t,
+            normal,
+            uv,
+            local: p,
+            material,
+        }
+    }
+
+    /// The crossings in increasing t: for a solid only the first and the last
+    /// candidate (the shape is convex, so anything between is a duplicate at a
+    /// rim), for a tube all of them.
+    fn sorted(&self, ray: &Ray) -> ([(f64, Surface); 4], usize) {
+        let mut c = [(0.0, Surface::Side); 4];
+        let n = self.candidates(ray, &mut c);
+        if self.caps.is_some() {
+            if n < 2 {
+                return (c, 0);
+            }
+            let (mut lo, mut hi) = (c[0], c[0]);
+            for &x in &c[1..n] {
+                if x.0 < lo.0 {
+                    lo = x;
+                }
+                if x.0 > hi.0 {
+                    hi = x;
+                }
+            }
+            return ([lo, hi, lo, hi], 2);
+        }
+        // A tube has at most the two side roots, already in order.
+        (c, n)
+    }
+
+    pub(super) fn intersect(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<Hit> {
+        let (c, n) = self.sorted(ray);
+        c[..n]
+            .iter()
+            .find(|x| x.0 > t_min && x.0 < t_max)
+            .map(|&(t, s)| self.hit_at(ray, t, s))
+    }
+
+    pub(super) fn crossings(&self, ray: &Ray, out: &mut Vec<Hit>) {
+        let (c, n) = self.sorted(ray);
+        out.extend(c[..n].iter().map(|&(t, s)| self.hit_at(ray, t, s)));
+    }
+
+    pub(super) fn bounds(&self) -> Aabb {
+        if !self.valid {
+            return Aabb::EMPTY;
+        }
+        let r = self.r0.max(self.r1);
+        let e = DVec3::new(r, self.height / 2.0, r);
+        Aabb::new(self.centre - e, self.centre + e)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::shapes::testing;
+
+    fn hit(s: &dyn Shape, o: DVec3, d: DVec3) -> Option<Hit> {
+        s.intersect(&Ray::new(o, d), 1e-9, f64::INFINITY)
+    }
+
+    #[test]
+    fn pointed_cone_side_and_base() {
+        // Base radius 1 at y = 0, apex at y = 2.
+        let c = Cone::new(DVec3::new(0.0, 1.0, 0.0), 1.0, 0.0, 2.0, 1, Some([2, 3]));
+        // At height 1 the radius is 0.5.
+        let h = hit(&c, DVec3::new(5.0, 1.0, 0.0), -DVec3::X).unwrap();
+        assert!((h.t - 4.5).abs() < 1e-12 && h.material == 1);
+        // The side slopes: normal ∝ (1, 0.5, 0) (gradient of x² + z² − (1 − y/2)²).
+        let expected = DVec3::new(1.0, 0.5, 0.0).normalize();
+        assert!((h.normal.normalize() - expected).length() < 1e-12);
+        let h = hit(&c, DVec3::new(0.2, -5.0, 0.3), DVec3::Y).unwrap();
+        assert!((h.t - 5.0).abs() < 1e-12 && h.normal == -DVec3::Y && h.material == 3);
+        // Cap uv like a disc in the x-z plane.
+        assert!((h.uv - DVec2::new(0.6, 0.65)).length() < 1e-12);
+        // Down the axis from above: the apex, then the base.
+        let mut xs = Vec::new();
+        c.crossings(&Ray::new(DVec3::new(0.0, 5.0, 0.0), -DVec3::Y), &mut xs);
+        assert_eq!(xs.len(), 2);
+        assert!((xs[0].t - 3.0).abs() < 1e-9 && (xs[1].t - 5.0).abs() < 1e-12);
+        assert!(xs[0].normal.is_finite() && xs[0].normal.dot(DVec3::Y) > 0.0);
+    }
+
+    #[test]
+    fn frustum_side_uv_and_open() {
+        let c = Cone::new(DVec3::ZERO, 1.0, 0.5, 1.0, 1, None);
+        assert!(!c.is_solid());
+        // At y = 0 the radius is 0.75; +z side is u = 0, mid height v = 0.5.
+        let h = hit(&c, DVec3::new(0.0, 0.0, 5.0), -DVec3::Z).unwrap();
+        assert!((h.t - 4.25).abs() < 1e-12);
+        assert!((h.uv - DVec2::new(0.0, 0.5)).length() < 1e-12);
+        // +x is a quarter turn.
+        let h = hit(&c, DVec3::new(5.0, 0.25, 0.0), -DVec3::X).unwrap();
+        assert!((h.uv - DVec2::new(0.25, 0.75)).length() < 1e-12);
+        // Open: straight down the axis passes through.
+        assert!(hit(&c, DVec3::new(0.0, 5.0, 0.0), -DVec3::Y).is_none());
+        // From inside the open frustum, the inside of the wall.
+        let h = hit(&c, DVec3::ZERO, DVec3::X).unwrap();
+        assert!((h.t - 0.75).abs() < 1e-12 && h.normal.x > 0.0);
+    }
+
+    #[test]
+    fn degenerate_never_hits() {
+        let rays = testing::rays_towards(DVec3::ZERO, 1.0, 50, 3);
+        for c in [
+            Cone::new(DVec3::ZERO, 0.0, 0.0, 1.0, 0, Some([0, 0])),
+            Cone::new(DVec3::ZERO, 1.0, 0.0, 0.0, 0, Some([0, 0])),
+            Cone::new(DVec3::ZERO, f64::NAN, 0.0, 1.0, 0, None),
+        ] {
+            for r in &rays {
+                assert!(c.intersect(r, 0.0, f64::INFINITY).is_none());
+            }
+        }
+    }
+
+    #[test]
+    fn properties() {
+        let centre = DVec3::new(1.0, 2.0, -1.0);
+        let solid = Cone::new(centre, 1.5, 0.3, 2.0, 1, Some([2, 3]));
+        let pointed = Cone::new(centre, 1.0, 0.0, 3.0, 1, Some([2, 3]));
+        let open = Cone::new(centre, 0.5, 1.5, 2.0, 1, None);
+        for (i, c) in [&solid, &pointed, &open].into_iter().enumerate() {
+            let rays = testing::rays_towards(centre, 2.0, 500, 11 + i as u64);
+            testing::check_consistency(c, &rays);
+            testing::check_no_rehit(c, &rays);
+            assert!(testing::check_normals(c, &rays) > 100);
+            if c.is_solid() {
+                testing::check_alternation(c, &rays);
+            }
+        }
     }
 }

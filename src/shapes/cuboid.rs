@@ -1,33 +1,238 @@
-//! An axis-aligned box (placeholder: the constructor's signature is fixed, the geometry is
-//! not written yet).
+//! An axis-aligned box, each face with its own material.
+//!
+//! ```text
+//! box { min <-1, 0, -1>  max <1, 2, 1>  material wood }
+//! box { min <0, 0, 0>  max <1, 1, 1>  material grey  front red  top blue }
+//! ```
+//! Faces: front z = max.z, back z = min.z, top y = max.y, bottom y = min.y,
+//! left x = min.x, right x = max.x. Texture space (W, H, D the extents):
+//! front/back u = (x − min.x)/W, v = (y − min.y)/H; top/bottom
+//! u = (x − min.x)/W, v = (z − min.z)/D; left/right u = (y − min.y)/H,
+//! v = (z − min.z)/D.
 
 use super::{Hit, Shape};
-use crate::geometry::{Aabb, DVec3, Ray};
+use crate::geometry::{Aabb, DVec2, DVec3, Ray};
 use crate::scene::MaterialId;
 
 #[derive(Clone, Debug)]
 pub struct Cuboid {
-    _material: MaterialId,
+    pub min: DVec3,
+    pub max: DVec3,
+    /// front (+z), back (−z), top (+y), bottom (−y), left (−x), right (+x).
+    pub materials: [MaterialId; 6],
+}
+
+/// A face: the axis it is perpendicular to and whether it is the high side.
+#[derive(Clone, Copy, Debug)]
+struct Face {
+    axis: usize,
+    high: bool,
 }
 
 impl Cuboid {
     /// `materials` per face: front (+z), back (−z), top (+y), bottom (−y), left (−x), right (+x).
-    pub fn new(_min: DVec3, _max: DVec3, materials: [MaterialId; 6]) -> Self {
+    pub fn new(min: DVec3, max: DVec3, materials: [MaterialId; 6]) -> Self {
         Cuboid {
-            _material: materials[0],
+            min: min.min(max),
+            max: min.max(max),
+            materials,
+        }
+    }
+
+    /// The entering and leaving parameters along the whole line, with the
+    /// faces they cross. Axes the ray runs parallel to are skipped (after
+    /// checking the origin lies between their planes), so no 0·∞ NaN can
+    /// leak into the comparisons.
+    fn slabs(&self, ray: &Ray) -> Option<((f64, Face), (f64, Face))> {
+        let mut near = (
+            f64::NEG_INFINITY,
+            Face {
+                axis: 0,
+                high: false,
+            },
+        );
+        let mut far = (
+            f64::INFINITY,
+            Face {
+                axis: 0,
+                high: true,
+            },
+        );
+        for axis in 0..3 {
+            let (o, d) = (ray.origin[axis], ray.dir[axis]);
+            let (lo, hi) = (self.min[axis], self.max[axis]);
+            if d == 0.0 {
+                if o < lo || o > hi {
+                    return None;
+                }
+                continue;
+            }
+            let inv = 1.0 / d;
+            let (t_lo, t_hi) = ((lo - o) * inv, (hi - o) * inv);
+            // Entering through the low face when moving up the axis.
+            let (enter, leave) = if d > 0.0 {
+                ((t_lo, false), (t_hi, true))
+            } else {
+                ((t_hi, true), (t_lo, false))
+            };
+            if enter.0 > near.0 {
+                near = (
+                    enter.0,
+                    Face {
+                        axis,
+                        high: enter.1,
+                    },
+                );
+            }
+            if leave.0 < far.0 {
+                far = (
+                    leave.0,
+                    Face {
+                        axis,
+                        high: leave.1,
+                    },
+                );
+            }
+        }
+        (near.0 <= far.0 && near.0.is_finite() && far.0.is_finite()).then_some((near, far))
+    }
+
+    fn hit_at(&self, ray: &Ray, t: f64, face: Face) -> Hit {
+        let p = ray.at(t);
+        let mut normal = DVec3::ZERO;
+        normal[face.axis] = if face.high { 1.0 } else { -1.0 };
+        let size = (self.max - self.min).max(DVec3::splat(f64::MIN_POSITIVE));
+        let rel = (p - self.min) / size;
+        let (uv, material) = match (face.axis, face.high) {
+            (2, true) => (DVec2::new(rel.x, rel.y), self.materials[0]),
+            (2, false) => (DVec2::new(rel.x, rel.y), self.materials[1]),
+            (1, true) => (DVec2::new(rel.x, rel.z), self.materials[2]),
+            (1, false) => (DVec2::new(rel.x, rel.z), self.materials[3]),
+            (_, false) => (DVec2::new(rel.y, rel.z), self.materials[4]),
+            (_, true) => (DVec2::new(rel.y, rel.z), self.materials[5]),
+        };
+        Hit {
+            t,
+            normal,
+            uv,
+            local: p,
+            material,
         }
     }
 }
 
 impl Shape for Cuboid {
-    fn intersect(&self, _ray: &Ray, _t_min: f64, _t_max: f64) -> Option<Hit> {
-        None
+    fn intersect(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<Hit> {
+        let ((t0, f0), (t1, f1)) = self.slabs(ray)?;
+        if t0 > t_min && t0 < t_max {
+            Some(self.hit_at(ray, t0, f0))
+        } else if t1 > t_min && t1 < t_max {
+            Some(self.hit_at(ray, t1, f1))
+        } else {
+            None
+        }
     }
-    fn crossings(&self, _ray: &Ray, _out: &mut Vec<Hit>) {}
+
+    fn occludes(&self, ray: &Ray, t_min: f64, t_max: f64) -> bool {
+        self.slabs(ray).is_some_and(|((t0, _), (t1, _))| {
+            (t0 > t_min && t0 < t_max) || (t1 > t_min && t1 < t_max)
+        })
+    }
+
+    fn crossings(&self, ray: &Ray, out: &mut Vec<Hit>) {
+        if let Some(((t0, f0), (t1, f1))) = self.slabs(ray) {
+            out.push(self.hit_at(ray, t0, f0));
+            out.push(self.hit_at(ray, t1, f1));
+        }
+    }
+
     fn bounds(&self) -> Aabb {
-        Aabb::EMPTY
+        Aabb::new(self.min, self.max)
     }
+
     fn is_solid(&self) -> bool {
         true
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::shapes::testing;
+
+    fn unit() -> Cuboid {
+        Cuboid::new(DVec3::ZERO, DVec3::new(2.0, 3.0, 4.0), [1, 2, 3, 4, 5, 6])
+    }
+
+    #[test]
+    fn faces_normals_and_materials() {
+        let b = unit();
+        let centre = DVec3::new(1.0, 1.5, 2.0);
+        // (direction towards the face from outside, normal, material)
+        let cases = [
+            (DVec3::Z, 1),
+            (-DVec3::Z, 2),
+            (DVec3::Y, 3),
+            (-DVec3::Y, 4),
+            (-DVec3::X, 5),
+            (DVec3::X, 6),
+        ];
+        for (n, m) in cases {
+            let r = Ray::new(centre + n * 10.0, -n * 0.5);
+            let h = b.intersect(&r, 1e-9, f64::INFINITY).unwrap();
+            assert_eq!(h.normal, n);
+            assert_eq!(h.material, m);
+            let p = r.at(h.t);
+            assert!((p - centre).dot(n) > 0.0 && b.bounds().contains(p));
+        }
+        // A non-unit direction keeps t in the same parameterisation.
+        let r = Ray::new(DVec3::new(1.0, 1.0, 10.0), DVec3::new(0.0, 0.0, -2.0));
+        assert!((b.intersect(&r, 0.0, 99.0).unwrap().t - 3.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn uv_per_face() {
+        let b = unit();
+        let hit = |o: DVec3, d: DVec3| b.intersect(&Ray::new(o, d), 0.0, 99.0).unwrap().uv;
+        // Front at (0.5, 0.75, 4): u = x/W, v = y/H.
+        let uv = hit(DVec3::new(0.5, 0.75, 9.0), -DVec3::Z);
+        assert!((uv - DVec2::new(0.25, 0.25)).length() < 1e-12);
+        // Top at (1.5, 3, 1): u = x/W, v = z/D.
+        let uv = hit(DVec3::new(1.5, 9.0, 1.0), -DVec3::Y);
+        assert!((uv - DVec2::new(0.75, 0.25)).length() < 1e-12);
+        // Left at (0, 1.5, 3): u = y/H, v = z/D.
+        let uv = hit(DVec3::new(-9.0, 1.5, 3.0), DVec3::X);
+        assert!((uv - DVec2::new(0.5, 0.75)).length() < 1e-12);
+    }
+
+    #[test]
+    fn inside_parallel_and_miss() {
+        let b = unit();
+        let inside = Ray::new(DVec3::new(1.0, 1.0, 1.0), DVec3::X);
+        let h = b.intersect(&inside, 1e-9, f64::INFINITY).unwrap();
+        assert!((h.t - 1.0).abs() < 1e-12 && h.normal == DVec3::X);
+        // Running inside the plane of a face: no NaN, a hit on the far face.
+        let on_face = Ray::new(DVec3::new(0.0, 1.0, -5.0), DVec3::Z);
+        let h = b.intersect(&on_face, 1e-9, f64::INFINITY).unwrap();
+        assert!(h.t.is_finite() && (h.t - 5.0).abs() < 1e-12);
+        let miss = Ray::new(DVec3::new(3.0, 1.0, -5.0), DVec3::Z);
+        assert!(b.intersect(&miss, 0.0, f64::INFINITY).is_none());
+        let mut xs = Vec::new();
+        b.crossings(&miss, &mut xs);
+        assert!(xs.is_empty());
+        // A flat box does not panic and gives no NaN.
+        let flat = Cuboid::new(DVec3::ZERO, DVec3::new(1.0, 0.0, 1.0), [0; 6]);
+        let h = flat.intersect(&Ray::new(DVec3::new(0.5, 1.0, 0.5), -DVec3::Y), 0.0, 9.0);
+        assert!(h.is_none_or(|h| h.uv.is_finite() && h.t.is_finite()));
+    }
+
+    #[test]
+    fn properties() {
+        let b = unit();
+        let rays = testing::rays_towards(DVec3::new(1.0, 1.5, 2.0), 3.0, 500, 7);
+        testing::check_consistency(&b, &rays);
+        testing::check_alternation(&b, &rays);
+        testing::check_no_rehit(&b, &rays);
+        assert!(testing::check_normals(&b, &rays) > 100);
     }
 }

@@ -75,6 +75,14 @@ pub trait Shape: Send + Sync + std::fmt::Debug {
 
     /// Whether the shape encloses a volume (so CSG may use it).
     fn is_solid(&self) -> bool;
+
+    /// Whether `p` lies inside the solid. CSG asks this only of an unbounded
+    /// shape whose crossings a line has none of (a ray parallel to a plane),
+    /// to learn whether the whole line is inside; a bounded shape never
+    /// needs it, so the default says no.
+    fn encloses(&self, _p: DVec3) -> bool {
+        false
+    }
 }
 
 /// Solves a·t² + b·t + c = 0 (a ≠ 0) without cancellation: the root of the
@@ -131,6 +139,72 @@ pub(crate) mod testing {
             }
             for w in xs.windows(2) {
                 assert!(w[0].t <= w[1].t, "crossings out of order");
+            }
+        }
+    }
+
+    /// A ray leaving the surface from a hit, straight on or mirrored, must not
+    /// meet the surface again at (nearly) the same point.
+    pub fn check_no_rehit(shape: &dyn Shape, rays: &[Ray]) {
+        for r in rays {
+            let Some(h) = shape.intersect(r, 1e-9, f64::INFINITY) else {
+                continue;
+            };
+            let p = r.at(h.t);
+            let n = h.normal.normalize();
+            let d = r.dir.normalize();
+            for dir in [d, d - 2.0 * d.dot(n) * n] {
+                let again = shape.intersect(&Ray::new(p, dir), 1e-9, f64::INFINITY);
+                if let Some(a) = again {
+                    assert!(a.t > 1e-6, "re-hit at t = {} from {p:?} along {dir:?}", a.t);
+                }
+            }
+        }
+    }
+
+    /// The normal agrees with finite differences: hits of rays shifted a
+    /// little sideways lie in the tangent plane (up to second order). Pairs
+    /// that land on a different face (the normals disagree) are skipped.
+    pub fn check_normals(shape: &dyn Shape, rays: &[Ray]) -> usize {
+        let mut checked = 0;
+        for r in rays {
+            let Some(h) = shape.intersect(r, 1e-9, f64::INFINITY) else {
+                continue;
+            };
+            let p = r.at(h.t);
+            let n = h.normal.normalize();
+            assert!(n.is_finite(), "normal {:?}", h.normal);
+            let side = r.dir.any_orthonormal_pair();
+            for off in [side.0, side.1] {
+                let shifted = Ray::new(r.origin + off * 1e-5, r.dir);
+                let Some(h2) = shape.intersect(&shifted, 1e-9, f64::INFINITY) else {
+                    continue;
+                };
+                if h2.normal.normalize().dot(n) < 0.99 {
+                    continue;
+                }
+                let q = shifted.at(h2.t);
+                let gap = (q - p).dot(n).abs();
+                assert!(
+                    gap < 1e-3 * (q - p).length() + 1e-12,
+                    "normal {n:?} at {p:?} vs {q:?}"
+                );
+                checked += 1;
+            }
+        }
+        checked
+    }
+
+    /// Rays starting outside a solid's bounds cross it an even number of
+    /// times, alternately entering (normal against the ray) and leaving.
+    pub fn check_alternation(shape: &dyn Shape, rays: &[Ray]) {
+        for r in rays {
+            let mut xs = Vec::new();
+            shape.crossings(r, &mut xs);
+            assert!(xs.len().is_multiple_of(2), "odd crossings {xs:?}");
+            for (i, h) in xs.iter().enumerate() {
+                let entering = h.normal.dot(r.dir) < 0.0;
+                assert_eq!(entering, i % 2 == 0, "crossing {i} of {xs:?}");
             }
         }
     }

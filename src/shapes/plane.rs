@@ -77,6 +77,11 @@ impl Shape for Plane {
     fn is_solid(&self) -> bool {
         true
     }
+
+    /// The solid side is behind the normal.
+    fn encloses(&self, p: DVec3) -> bool {
+        self.normal.dot(p) <= self.offset
+    }
 }
 
 #[cfg(test)]

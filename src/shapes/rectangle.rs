@@ -1,37 +1,145 @@
-//! A parallelogram (placeholder: the constructor's signature is fixed, the geometry is
-//! not written yet).
+//! A parallelogram given by three corners, an open surface.
+//!
+//! ```text
+//! rectangle { bottom_left <-1, 0, 0>  top_left <-1, 2, 0>  bottom_right <1, 0, 0>  material wall }
+//! ```
+//! The fourth corner is top_left + bottom_right − bottom_left. The normal is
+//! (bottom_right − bottom_left) × (top_left − bottom_left), so the example
+//! faces +z. Texture space: u runs from 0 to 1 along bottom_left →
+//! bottom_right, v along bottom_left → top_left.
 
 use super::{Hit, Shape};
-use crate::geometry::{Aabb, DVec3, Ray};
+use crate::geometry::{Aabb, DVec2, DVec3, Ray};
 use crate::scene::MaterialId;
 
 #[derive(Clone, Debug)]
 pub struct Rectangle {
-    _material: MaterialId,
+    pub origin: DVec3,
+    /// bottom_left → bottom_right.
+    u_edge: DVec3,
+    /// bottom_left → top_left.
+    v_edge: DVec3,
+    normal: DVec3,
+    pub material: MaterialId,
 }
 
 impl Rectangle {
     pub fn new(
-        _bottom_left: DVec3,
-        _top_left: DVec3,
-        _bottom_right: DVec3,
+        bottom_left: DVec3,
+        top_left: DVec3,
+        bottom_right: DVec3,
         material: MaterialId,
     ) -> Self {
+        let (u_edge, v_edge) = (bottom_right - bottom_left, top_left - bottom_left);
         Rectangle {
-            _material: material,
+            origin: bottom_left,
+            u_edge,
+            v_edge,
+            normal: u_edge.cross(v_edge).normalize_or_zero(),
+            material,
         }
+    }
+
+    /// Möller–Trumbore with the parallelogram's bounds (u, v each in [0, 1]).
+    fn root(&self, ray: &Ray) -> Option<Hit> {
+        let p = ray.dir.cross(self.v_edge);
+        let det = self.u_edge.dot(p);
+        if det == 0.0 || !det.is_finite() || self.normal == DVec3::ZERO {
+            return None;
+        }
+        let inv = 1.0 / det;
+        let s = ray.origin - self.origin;
+        let u = s.dot(p) * inv;
+        if !(0.0..=1.0).contains(&u) {
+            return None;
+        }
+        let q = s.cross(self.u_edge);
+        let v = ray.dir.dot(q) * inv;
+        if !(0.0..=1.0).contains(&v) {
+            return None;
+        }
+        let t = self.v_edge.dot(q) * inv;
+        t.is_finite().then(|| Hit {
+            t,
+            normal: self.normal,
+            uv: DVec2::new(u, v),
+            local: ray.at(t),
+            material: self.material,
+        })
     }
 }
 
 impl Shape for Rectangle {
-    fn intersect(&self, _ray: &Ray, _t_min: f64, _t_max: f64) -> Option<Hit> {
-        None
+    fn intersect(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<Hit> {
+        self.root(ray).filter(|h| h.t > t_min && h.t < t_max)
     }
-    fn crossings(&self, _ray: &Ray, _out: &mut Vec<Hit>) {}
+
+    fn crossings(&self, ray: &Ray, out: &mut Vec<Hit>) {
+        out.extend(self.root(ray));
+    }
+
     fn bounds(&self) -> Aabb {
-        Aabb::EMPTY
+        let o = self.origin;
+        Aabb::new(o, o + self.u_edge)
+            .grow(o + self.v_edge)
+            .grow(o + self.u_edge + self.v_edge)
     }
+
     fn is_solid(&self) -> bool {
-        true
+        false
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::shapes::testing;
+
+    fn wall() -> Rectangle {
+        // A sheared parallelogram: the top edge is shifted by 1 in x.
+        Rectangle::new(
+            DVec3::new(0.0, 0.0, 0.0),
+            DVec3::new(1.0, 2.0, 0.0),
+            DVec3::new(4.0, 0.0, 0.0),
+            2,
+        )
+    }
+
+    #[test]
+    fn hit_uv_and_corners() {
+        let r = wall();
+        let at =
+            |x: f64, y: f64| r.intersect(&Ray::new(DVec3::new(x, y, 3.0), -DVec3::Z), 0.0, 9.0);
+        let h = at(2.5, 1.0).unwrap();
+        assert!((h.t - 3.0).abs() < 1e-12 && h.normal == DVec3::Z && h.material == 2);
+        // (2.5, 1) = 0.5·(1, 2) + 0.5·(4, 0)... u = 0.5, v = 0.5.
+        assert!((h.uv - DVec2::new(0.5, 0.5)).length() < 1e-12);
+        // The fourth corner (5, 2) is (1, 1).
+        assert!((at(4.999, 1.999).unwrap().uv - DVec2::ONE).length() < 1e-3);
+        // Beyond the slanted left edge, and beyond the top.
+        assert!(at(0.2, 1.0).is_none());
+        assert!(at(3.0, 2.1).is_none());
+    }
+
+    #[test]
+    fn degenerate_never_hits() {
+        let line = Rectangle::new(DVec3::ZERO, DVec3::X, DVec3::X * 3.0, 0);
+        for r in testing::rays_towards(DVec3::X, 1.0, 200, 51) {
+            assert!(line.intersect(&r, 0.0, f64::INFINITY).is_none());
+        }
+    }
+
+    #[test]
+    fn properties() {
+        let r = Rectangle::new(
+            DVec3::new(-1.0, 0.0, 0.0),
+            DVec3::new(-1.0, 2.0, 1.0),
+            DVec3::new(1.0, 0.0, 0.5),
+            1,
+        );
+        let rays = testing::rays_towards(DVec3::new(0.0, 1.0, 0.5), 1.5, 500, 53);
+        testing::check_consistency(&r, &rays);
+        testing::check_no_rehit(&r, &rays);
+        assert!(testing::check_normals(&r, &rays) > 50);
     }
 }

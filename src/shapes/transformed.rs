@@ -62,6 +62,10 @@ impl Shape for Transformed {
     fn is_solid(&self) -> bool {
         self.inner.is_solid()
     }
+
+    fn encloses(&self, p: crate::geometry::DVec3) -> bool {
+        self.inner.encloses(self.transform.inverse_point(p))
+    }
 }
 
 #[cfg(test)]

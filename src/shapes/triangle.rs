@@ -1,32 +1,138 @@
-//! A triangle (placeholder: the constructor's signature is fixed, the geometry is
-//! not written yet).
+//! A single triangle (Möller–Trumbore), an open surface.
+//!
+//! ```text
+//! triangle { a <0, 0, 0>  b <1, 0, 0>  c <0, 1, 0>  material red }
+//! ```
+//! The normal is (b − a) × (c − a): counter-clockwise points face the
+//! viewer. Texture space: barycentric, u the weight of b and v of c (so a is
+//! (0, 0), b is (1, 0), c is (0, 1)).
 
 use super::{Hit, Shape};
-use crate::geometry::{Aabb, DVec3, Ray};
+use crate::geometry::{Aabb, DVec2, DVec3, Ray};
 use crate::scene::MaterialId;
 
 #[derive(Clone, Debug)]
 pub struct Triangle {
-    _material: MaterialId,
+    pub a: DVec3,
+    e1: DVec3,
+    e2: DVec3,
+    normal: DVec3,
+    pub material: MaterialId,
 }
 
 impl Triangle {
-    pub fn new(_a: DVec3, _b: DVec3, _c: DVec3, material: MaterialId) -> Self {
+    pub fn new(a: DVec3, b: DVec3, c: DVec3, material: MaterialId) -> Self {
+        let (e1, e2) = (b - a, c - a);
         Triangle {
-            _material: material,
+            a,
+            e1,
+            e2,
+            normal: e1.cross(e2).normalize_or_zero(),
+            material,
         }
+    }
+
+    /// Möller–Trumbore along the whole line. A zero-area triangle has a zero
+    /// determinant for every ray and is never hit.
+    fn root(&self, ray: &Ray) -> Option<Hit> {
+        let p = ray.dir.cross(self.e2);
+        let det = self.e1.dot(p);
+        if det == 0.0 || !det.is_finite() || self.normal == DVec3::ZERO {
+            return None;
+        }
+        let inv = 1.0 / det;
+        let s = ray.origin - self.a;
+        let u = s.dot(p) * inv;
+        if !(0.0..=1.0).contains(&u) {
+            return None;
+        }
+        let q = s.cross(self.e1);
+        let v = ray.dir.dot(q) * inv;
+        if v < 0.0 || u + v > 1.0 {
+            return None;
+        }
+        let t = self.e2.dot(q) * inv;
+        t.is_finite().then(|| Hit {
+            t,
+            normal: self.normal,
+            uv: DVec2::new(u, v),
+            local: ray.at(t),
+            material: self.material,
+        })
     }
 }
 
 impl Shape for Triangle {
-    fn intersect(&self, _ray: &Ray, _t_min: f64, _t_max: f64) -> Option<Hit> {
-        None
+    fn intersect(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<Hit> {
+        self.root(ray).filter(|h| h.t > t_min && h.t < t_max)
     }
-    fn crossings(&self, _ray: &Ray, _out: &mut Vec<Hit>) {}
+
+    fn crossings(&self, ray: &Ray, out: &mut Vec<Hit>) {
+        out.extend(self.root(ray));
+    }
+
     fn bounds(&self) -> Aabb {
-        Aabb::EMPTY
+        Aabb::new(self.a, self.a + self.e1).grow(self.a + self.e2)
     }
+
     fn is_solid(&self) -> bool {
-        true
+        false
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::shapes::testing;
+
+    #[test]
+    fn hit_normal_and_barycentric_uv() {
+        let tri = Triangle::new(DVec3::ZERO, DVec3::X * 2.0, DVec3::Y * 2.0, 3);
+        let h = tri
+            .intersect(&Ray::new(DVec3::new(0.5, 0.5, 2.0), -DVec3::Z), 0.0, 9.0)
+            .unwrap();
+        assert!((h.t - 2.0).abs() < 1e-12 && h.normal == DVec3::Z && h.material == 3);
+        assert!((h.uv - DVec2::new(0.25, 0.25)).length() < 1e-12);
+        // The corners are (0,0), (1,0), (0,1).
+        let at = |x: f64, y: f64| {
+            tri.intersect(&Ray::new(DVec3::new(x, y, 1.0), -DVec3::Z), 0.0, 9.0)
+                .unwrap()
+                .uv
+        };
+        assert!((at(2.0, 0.0) - DVec2::X).length() < 1e-12);
+        assert!((at(0.0, 2.0) - DVec2::Y).length() < 1e-12);
+        // Outside the hypotenuse.
+        let miss = Ray::new(DVec3::new(1.1, 1.0, 1.0), -DVec3::Z);
+        assert!(tri.intersect(&miss, 0.0, 9.0).is_none());
+        // Clockwise winding faces the other way.
+        let back = Triangle::new(DVec3::ZERO, DVec3::Y, DVec3::X, 0);
+        let h = back
+            .intersect(&Ray::new(DVec3::new(0.2, 0.2, 1.0), -DVec3::Z), 0.0, 9.0)
+            .unwrap();
+        assert_eq!(h.normal, -DVec3::Z);
+    }
+
+    #[test]
+    fn degenerate_never_hits() {
+        let line = Triangle::new(DVec3::ZERO, DVec3::X, DVec3::X * 2.0, 0);
+        let point = Triangle::new(DVec3::ONE, DVec3::ONE, DVec3::ONE, 0);
+        for r in testing::rays_towards(DVec3::X, 1.0, 200, 41) {
+            assert!(line.intersect(&r, 0.0, f64::INFINITY).is_none());
+            assert!(point.intersect(&r, 0.0, f64::INFINITY).is_none());
+        }
+    }
+
+    #[test]
+    fn properties() {
+        let tri = Triangle::new(
+            DVec3::new(1.0, 0.0, 0.0),
+            DVec3::new(-1.0, 2.0, 0.5),
+            DVec3::new(0.0, -1.0, 2.0),
+            1,
+        );
+        let rays = testing::rays_towards(DVec3::new(0.0, 0.3, 0.8), 1.0, 500, 43);
+        testing::check_consistency(&tri, &rays);
+        testing::check_no_rehit(&tri, &rays);
+        assert!(testing::check_normals(&tri, &rays) > 50);
     }
 }

@@ -15,6 +15,7 @@
 mod eval;
 mod objects;
 mod params;
+mod textures;
 
 use super::{
     Camera, Colour, Light, Material, Projection, RenderSettings, Scene, Texture, Transfer,
@@ -653,22 +654,6 @@ impl<'p> Builder<'p> {
         }
         self.finish("material", p);
         ok.then_some(m)
-    }
-
-    /// The value of `colour`: the one place where textures (`checker { … }`)
-    /// will join plain colours.
-    /// `values` is one colour, or a texture's name and its block.
-    fn texture(&mut self, values: &[Item]) -> Option<Texture> {
-        if let [name, Item::Block(_)] = values {
-            let n = name.as_name()?;
-            self.err(
-                Error::new(n.span, format!("unknown texture `{}`", n.node))
-                    .label("not a texture")
-                    .help("`colour` takes a colour: `rgb(r, g, b)`, `#rrggbb` or a name such as `white`"),
-            );
-            return None;
-        }
-        self.colour(&values[0]).map(|(c, _)| Texture::Solid(c))
     }
 
     /// `material NAME` or `material { … }` inside an object.

@@ -5,7 +5,7 @@
 //! a union); CSG children must be solids.
 
 use super::Builder;
-use super::params::{self, Param, Schema, Spec};
+use super::params::{self, Param, Schema, Spec, spec};
 use crate::geometry::{Aabb, DVec3, Transform};
 use crate::implicit::{Equation, ImplicitSurface};
 use crate::lang::ast::{Block, Item, Span, Spanned};
@@ -61,14 +61,6 @@ impl Ctx {
         csg: None,
         outer: Transform::IDENTITY,
     };
-}
-
-const fn spec(name: &'static str, arity: usize, expects: &'static str) -> Spec {
-    Spec {
-        name,
-        arity,
-        expects,
-    }
 }
 
 const V3: &str = "a 3-vector";

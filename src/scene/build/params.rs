@@ -16,13 +16,26 @@ pub struct Spec {
     pub arity: usize,
     /// What its values should be, for messages ("a number").
     pub expects: &'static str,
+    /// A value that may be a pattern: a name followed by an optional string
+    /// and a block (`checker { … }`, `image "f.png" { … }`).
+    pub pattern: bool,
 }
 
-const fn spec(name: &'static str, arity: usize, expects: &'static str) -> Spec {
+pub const fn spec(name: &'static str, arity: usize, expects: &'static str) -> Spec {
     Spec {
         name,
         arity,
         expects,
+        pattern: false,
+    }
+}
+
+const fn pattern_spec(name: &'static str, expects: &'static str) -> Spec {
+    Spec {
+        name,
+        arity: 1,
+        expects,
+        pattern: true,
     }
 }
 
@@ -89,14 +102,11 @@ impl Schema {
     }
 }
 
-/// Parameters whose value may be a name followed by a block, like a
-/// texture: `colour checker { a white  b black }`.
-pub const BLOCK_VALUES: &[&str] = &["colour"];
-
-/// `color` and `center` are accepted for `colour` and `centre`.
+/// `color` and `center` are accepted for `colour` and `centre`, and the
+/// sketch's `texture` for `colour`.
 pub fn canonical(name: &str) -> &str {
     match name {
-        "color" => "colour",
+        "color" | "texture" => "colour",
         "center" => "centre",
         n => n,
     }
@@ -140,7 +150,10 @@ pub const LIGHT: Schema = Schema {
 
 pub const MATERIAL: Schema = Schema {
     own: &[
-        spec("colour", 1, "a colour"),
+        pattern_spec(
+            "colour",
+            "a colour or a texture (`checker`, `checker3d`, `image`, `marble`, `wood`)",
+        ),
         spec("reflect", 1, "a number from 0 to 1"),
     ],
     object: false,
@@ -325,14 +338,15 @@ pub fn read(
             values.push(items[i].clone());
             i += 1;
         }
-        // A value made by a name and a block (`colour checker { … }`) keeps
-        // its block with it.
-        if BLOCK_VALUES.contains(&spec.name)
-            && values.last().is_some_and(|v| v.as_name().is_some())
-            && let Some(b @ Item::Block(_)) = items.get(i)
-        {
-            values.push(b.clone());
-            i += 1;
+        if spec.pattern && values.len() == 1 && values[0].as_name().is_some() {
+            if let Some(s @ Item::Str { .. }) = items.get(i) {
+                values.push(s.clone());
+                i += 1;
+            }
+            if let Some(b @ Item::Block(_)) = items.get(i) {
+                values.push(b.clone());
+                i += 1;
+            }
         }
         if values.len() < spec.arity {
             let found = match items.get(i) {
@@ -356,7 +370,7 @@ pub fn read(
             );
             continue;
         }
-        if spec.arity == 0 && !values.is_empty() {
+        if values.len() > spec.arity && !spec.pattern {
             errors.push(
                 Error::new(
                     values[spec.arity].span(),

@@ -1,0 +1,138 @@
+//! What pictures must show: shadows, silhouettes, transforms, reflections,
+//! thread independence.
+
+use crate::support::*;
+
+const HEADER: &str = "
+camera { position <0, 0, 4>  look_at <0, 0, 0>  up <0, 1, 0>  distance 1  width 2  height 2 }
+render { width 64  height 64  max_depth 3  gamma linear }
+";
+
+#[test]
+fn floor_under_a_sphere_is_in_shadow_and_elsewhere_lit() {
+    // A lamp high above a sphere at x = 3 casts a round shadow of radius
+    // about 1.04 centred on (3, 0, 0). The camera hangs above x = −3 looking
+    // straight down (fov 90: ten units either side), so it sees that shadow
+    // past the sphere's rim. Floor colour 1 and ambient 0.1: a shadowed floor
+    // pixel is exactly 0.1, a lit one 0.1 + cos(incidence).
+    let film = render_src(
+        "
+camera { position <-3, 10, 0>  look_at <-3, 0, 0>  up <0, 0, -1>  fov 90 }
+render { width 64  height 64  gamma linear }
+ambient rgb(1, 1, 1) intensity 0.1
+light { position <3, 50, 0> }
+plane { normal <0, 1, 0>  material { colour rgb(1, 1, 1) } }
+sphere { centre <3, 2, 0>  radius 1  material { colour rgb(1, 0, 0) } }
+",
+    );
+    // Column 49's centre looks at x ≈ 2.47, row 32's at z ≈ 0.16: in the
+    // shadow, 8° off the sphere's centre as the camera sees it (its rim is
+    // at 5.7°).
+    let shadowed = film.get(49, 32);
+    assert!((shadowed[0] - 0.1).abs() < 1e-4, "shadow: {shadowed:?}");
+    assert!(
+        (shadowed[1] - 0.1).abs() < 1e-4,
+        "shadowed floor is grey: {shadowed:?}"
+    );
+    // Straight below the camera the floor is lit almost head-on.
+    let lit = film.get(32, 32);
+    assert!(lit[0] > 1.05 && lit[0] < 1.1, "lit floor: {lit:?}");
+}
+
+#[test]
+fn sphere_silhouette_matches_the_analytic_circle() {
+    let film = render_src(&format!(
+        "{HEADER}
+ambient rgb(1, 1, 1) intensity 1
+sphere {{ radius 1  material {{ colour rgb(1, 1, 1) }} }}
+"
+    ));
+    // Pixel centre (a, b) → direction (x, y, −1) with x, y in [−1, 1]; the ray
+    // from (0,0,4) hits the unit sphere iff its distance from the origin < 1.
+    let mut wrong = 0;
+    for b in 0..64 {
+        for a in 0..64 {
+            let x = -1.0 + (a as f64 + 0.5) / 32.0;
+            let y = 1.0 - (b as f64 + 0.5) / 32.0;
+            let d = glam::DVec3::new(x, y, -1.0).normalize();
+            let o = glam::DVec3::new(0.0, 0.0, 4.0);
+            let dist = (o - o.dot(d) * d).length();
+            if (dist - 1.0).abs() < 1e-9 {
+                continue;
+            }
+            let hit = luminance(film.get(a, b)) > 0.5;
+            if hit != (dist < 1.0) {
+                wrong += 1;
+            }
+        }
+    }
+    assert_eq!(wrong, 0);
+}
+
+#[test]
+fn transformed_box_equals_the_box_placed_by_hand() {
+    let by_transform = render_src(&format!(
+        "{HEADER}
+ambient rgb(1, 1, 1) intensity 0.2
+light {{ position <3, 4, 5> }}
+box {{ min <-1, -1, -1>  max <1, 1, 1>  scale <0.5, 0.25, 0.25>  rotate z 90  translate <0.3, 0.2, 0> }}
+"
+    ));
+    let by_hand = render_src(&format!(
+        "{HEADER}
+ambient rgb(1, 1, 1) intensity 0.2
+light {{ position <3, 4, 5> }}
+box {{ min <0.05, -0.3, -0.25>  max <0.55, 0.7, 0.25> }}
+"
+    ));
+    let lit = by_hand
+        .pixels
+        .iter()
+        .filter(|p| luminance(**p) > 0.0)
+        .count();
+    assert!(lit > 30, "the box is visible: {lit} pixels");
+    assert!(max_difference(&by_transform, &by_hand) < 1e-4);
+}
+
+#[test]
+fn mirror_shows_the_sphere_in_front_of_it() {
+    // A mirror plane behind a red sphere, camera looking past the sphere at
+    // the mirror: the red appears again, reflected, beside the real one.
+    let film = render_src(
+        "
+camera { position <0, 0, 6>  look_at <0, 0, 0>  up <0, 1, 0>  fov 60 }
+render { width 64  height 64  max_depth 2  gamma linear }
+ambient rgb(1, 1, 1) intensity 1
+plane { normal <-1, 0, 1>  offset -2  material { colour rgb(0, 0, 1)  reflect 1 } }
+sphere { centre <-2, 0, 2>  radius 0.6  material { colour rgb(1, 0, 0) } }
+",
+    );
+    // Without the mirror nothing red would appear right of the centre.
+    let red_right = (40..64)
+        .flat_map(|a| (0..64).map(move |b| (a, b)))
+        .filter(|&(a, b)| {
+            let p = film.get(a, b);
+            p[0] > 0.5 && p[2] < 0.1
+        })
+        .count();
+    assert!(
+        red_right > 5,
+        "reflection of the sphere visible: {red_right}"
+    );
+}
+
+#[test]
+fn image_is_identical_for_one_and_two_threads() {
+    let (_dir, path) = scene_file(&format!(
+        "{HEADER}
+ambient rgb(1, 1, 1) intensity 0.1
+light {{ position <2, 3, 4> }}
+sphere {{ centre <-0.5, 0, 0>  radius 0.6  material {{ colour rgb(1, 0.5, 0.2)  reflect 0.4 }} }}
+sphere {{ centre <0.6, 0.2, -0.5>  radius 0.5  material {{ colour rgb(0.2, 0.5, 1)  reflect 0.4 }} }}
+plane {{ normal <0, 1, 0>  offset -0.6  material {{ colour rgb(0.8, 0.8, 0.8)  reflect 0.3 }} }}
+"
+    ));
+    let one = render_path(&path, None, 1);
+    let two = render_path(&path, None, 2);
+    assert_eq!(one, two);
+}

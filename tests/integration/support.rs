@@ -1,0 +1,54 @@
+//! Helpers shared by the end-to-end tests: scenes from text, rendered films.
+
+use raytrace::render::{Film, RenderOptions};
+use std::path::{Path, PathBuf};
+
+/// Writes `src` to a temporary scene file and returns (dir guard, path).
+pub fn scene_file(src: &str) -> (tempfile::TempDir, PathBuf) {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let path = dir.path().join("scene.rt");
+    std::fs::write(&path, src).expect("write scene");
+    (dir, path)
+}
+
+/// Parses, builds and renders a scene file at its own size (or the given
+/// one) on a pool of `threads` threads.
+pub fn render_path(path: &Path, size: Option<(u32, u32)>, threads: usize) -> Film {
+    let program = raytrace::lang::load(path).unwrap_or_else(|e| panic!("{e:?}"));
+    let mut scene = raytrace::scene::build(&program).unwrap_or_else(|e| panic!("{e:?}"));
+    if let Some((w, h)) = size {
+        scene.settings.width = w;
+        scene.settings.height = h;
+    }
+    let world = raytrace::accel::World::build(std::mem::take(&mut scene.objects));
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .expect("pool");
+    pool.install(|| raytrace::render::render(&scene, &world, &RenderOptions { progress: None }))
+        .expect("camera has a frame")
+        .0
+}
+
+pub fn render_src(src: &str) -> Film {
+    let (_dir, path) = scene_file(src);
+    render_path(&path, None, 2)
+}
+
+pub fn luminance(p: [f32; 3]) -> f32 {
+    (p[0] + p[1] + p[2]) / 3.0
+}
+
+/// The largest per-channel difference between two films of one size.
+pub fn max_difference(a: &Film, b: &Film) -> f32 {
+    assert_eq!((a.width, a.height), (b.width, b.height));
+    a.pixels
+        .iter()
+        .zip(&b.pixels)
+        .flat_map(|(p, q)| (0..3).map(move |i| (p[i] - q[i]).abs()))
+        .fold(0.0, f32::max)
+}
+
+pub fn project_root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
