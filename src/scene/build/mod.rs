@@ -468,8 +468,6 @@ impl<'p> Builder<'p> {
             return;
         }
         let mut p = self.params("render", block, &params::RENDER);
-        let s = &mut self.scene.settings;
-        let _ = s;
         if let Some(q) = p.take("width")
             && let Some(w) = self.integer(&q.values[0], 1, MAX_IMAGE_SIDE)
         {
