@@ -571,3 +571,21 @@ fn mesh_files_are_found_relative_to_the_scene_and_errors_name_them() {
     );
     assert_eq!(e[1], "cannot find the mesh file `gone.ply`");
 }
+
+#[test]
+fn a_group_inside_csg_is_a_union() {
+    // (A ∪ B) ∩ C is A ∪ B here; were the group's children flattened into
+    // the intersection, A ∩ B ∩ C would be empty.
+    let s = build(
+        "intersection {\n\
+           group { sphere { translate <-2, 0, 0> }  sphere { translate <2, 0, 0> } }\n\
+           sphere { radius 3.5 }\n\
+         }",
+    );
+    assert_eq!(s.objects.len(), 1);
+    let r = Ray::new(DVec3::new(10.0, 0.0, 0.0), DVec3::new(-1.0, 0.0, 0.0));
+    let h = s.objects[0]
+        .intersect(&r, 1e-9, f64::INFINITY)
+        .expect("hits B");
+    assert!((h.t - 7.0).abs() < 1e-9, "{}", h.t);
+}
