@@ -62,12 +62,14 @@ impl Error {
 /// letters counts as one edit (`materail` → `material`).
 pub fn closest<'a>(name: &str, candidates: impl IntoIterator<Item = &'a str>) -> Option<&'a str> {
     let lower = name.to_lowercase();
-    let limit = name.chars().count().div_ceil(3);
+    // One edit per three letters: `whte` → `white`, but a one-letter name
+    // is never "close" to another one-letter name.
+    let limit = name.chars().count() / 3;
     candidates
         .into_iter()
         .filter(|c| *c != name)
         .map(|c| (strsim::osa_distance(&lower, &c.to_lowercase()), c))
-        .filter(|(d, _)| *d <= limit.max(1))
+        .filter(|(d, _)| *d <= limit)
         .min_by_key(|(d, c)| (*d, c.len()))
         .map(|(_, c)| c)
 }
@@ -259,6 +261,7 @@ mod tests {
         assert_eq!(closest("radus", c), Some("radius"));
         assert_eq!(closest("Radius", c), Some("radius"));
         assert_eq!(closest("colour", c), None);
-        assert_eq!(closest("x", ["y", "pi"]), Some("y"));
+        assert_eq!(closest("q", ["x", "y", "z"]), None);
+        assert_eq!(closest("whte", ["white", "black"]), Some("white"));
     }
 }

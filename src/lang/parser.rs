@@ -402,15 +402,33 @@ fn syntax_error(e: pest::error::Error<Rule>, text: &str, at: Loc) -> Error {
         }
     };
     if let ErrorVariant::ParsingError { positives, .. } = &e.variant {
-        // A whole item could start here: say so once.
-        let item_rules = [Rule::let_stmt, Rule::block, Rule::expr];
-        if item_rules.iter().all(|r| positives.contains(r)) {
-            push("a name, a value or a block".into());
-        } else {
-            for r in positives {
-                if let Some(d) = describe_rule(*r) {
-                    push(d.into());
-                }
+        // Where any item could start, say so once rather than list every
+        // kind of item.
+        let item_start = [Rule::block, Rule::expr]
+            .iter()
+            .all(|r| positives.contains(r));
+        if item_start {
+            for d in ["a name", "a value", "a block"] {
+                push(d.into());
+            }
+        }
+        for r in positives {
+            let item_rule = matches!(
+                r,
+                Rule::let_stmt
+                    | Rule::kw_let
+                    | Rule::kw_include
+                    | Rule::include_stmt
+                    | Rule::block
+                    | Rule::list
+                    | Rule::string
+                    | Rule::expr
+            );
+            if item_start && item_rule {
+                continue;
+            }
+            if let Some(d) = describe_rule(*r) {
+                push(d.into());
             }
         }
     }
@@ -427,7 +445,7 @@ fn syntax_error(e: pest::error::Error<Rule>, text: &str, at: Loc) -> Error {
     if let ErrorVariant::CustomError { message } = &e.variant {
         push(message.clone());
     }
-    if expected.iter().any(|e| e.starts_with("a value")) {
+    if expected.iter().any(|e| e == "a value") && !expected.iter().any(|e| e == "a block") {
         expected.retain(|e| e != "a name");
     }
     let (found, len) = found_at(text, pos);
@@ -436,11 +454,18 @@ fn syntax_error(e: pest::error::Error<Rule>, text: &str, at: Loc) -> Error {
         1 => expected[0].clone(),
         n => format!("{} or {}", expected[..n - 1].join(", "), expected[n - 1]),
     };
-    Error::new(
+    let err = Error::new(
         at.span(pos, pos + len),
         format!("expected {list}, found {found}"),
     )
-    .label(format!("expected {list}"))
+    .label(format!("expected {list}"));
+    match found.as_str() {
+        "`,`" => err.help(
+            "values in a block are separated by spaces; commas go only inside `< >`, `( )` and `[ ]`",
+        ),
+        "`;`" => err.help("statements need no `;`"),
+        _ => err,
+    }
 }
 
 /// A few words on what is at `pos`, and how many bytes it covers.

@@ -251,3 +251,13 @@ fn mistake_two_includes_deep_shows_the_whole_chain() {
         ),
     ]));
 }
+
+// POV-Ray separates a sphere's centre and radius with a comma; a habit
+// worth a specific hint.
+#[test]
+fn stray_comma_between_parameters() {
+    insta::assert_snapshot!(report(&[(
+        "scene.rt",
+        "sphere { centre <0, 1, 0>, radius 1 }\n",
+    )]));
+}

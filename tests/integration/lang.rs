@@ -340,7 +340,6 @@ fn equation_errors_land_inside_the_string() {
 }
 
 #[test]
-#[ignore = "needs the real Disc: the placeholder claims to be solid"]
 fn csg_refuses_open_surfaces() {
     assert_eq!(
         errors("difference { sphere { } disc { } }"),
@@ -466,11 +465,11 @@ fn the_language_reference_examples_work() {
         if let Err(e) = lang::load(&p) {
             panic!("example {k} does not parse: {e}\n{b}");
         }
-        // Transforms alone are not a statement; image textures and meshes
-        // need their files.
-        let statement = !b.contains("image \"")
-            && !b.contains("mesh \"")
-            && !b.trim_start().starts_with("translate");
+        // Transforms alone are not a statement; images and meshes need
+        // files the examples only name.
+        let statement = !b.trim_start().starts_with("translate")
+            && !b.contains("image \"")
+            && !b.contains("mesh \"");
         if !statement {
             continue;
         }
@@ -485,16 +484,33 @@ fn the_language_reference_examples_work() {
                 _ => chunks.push(line.to_string()),
             }
         }
-        let lets: String = b
-            .lines()
-            .filter(|l| l.starts_with("let ") || l.starts_with("material "))
-            .collect::<Vec<_>>()
-            .join("\n");
-        for c in chunks
-            .iter()
-            .filter(|c| !c.starts_with("let ") && !c.starts_with("material "))
-        {
-            let p = f.write(&format!("doc{k}.rt"), &format!("{lets}\n{c}"));
+        // Constants and materials are declarations the other chunks use.
+        let declares = |c: &&String| c.starts_with("let ") || c.starts_with("material ");
+        let prefix: Vec<&str> = chunks.iter().filter(declares).map(String::as_str).collect();
+        let mut prefix = prefix.join("\n");
+        // Materials an example uses but declares elsewhere (in its example
+        // file): declare them plainly.
+        let mentions: Vec<(String, bool)> = b
+            .split("material ")
+            .skip(1)
+            .map(|after| {
+                let name: String = after
+                    .chars()
+                    .take_while(|c| c.is_ascii_alphanumeric() || *c == '_')
+                    .collect();
+                let is_declaration = after[name.len()..].trim_start().starts_with('{');
+                (name, is_declaration)
+            })
+            .collect();
+        for (name, _) in mentions.iter().filter(|(n, d)| !n.is_empty() && !d) {
+            let declared = mentions.iter().any(|(m, d)| m == name && *d);
+            let added = prefix.contains(&format!("material {name} {{ }}"));
+            if !declared && !added {
+                prefix.push_str(&format!("\nmaterial {name} {{ }}"));
+            }
+        }
+        for c in chunks.iter().filter(|c| !declares(c)) {
+            let p = f.write(&format!("doc{k}.rt"), &format!("{prefix}\n{c}"));
             if let Err(e) = try_build(&p) {
                 panic!("example {k} does not build: {e:?}\n{c}");
             }
@@ -504,8 +520,7 @@ fn the_language_reference_examples_work() {
 
 #[test]
 fn a_texture_value_keeps_its_block() {
-    // A pattern's block belongs to it: an unknown pattern is one clear
-    // error, not a stray-block error too.
+    // One clear error for a misspelt texture, not a stray-block error too.
     assert_eq!(
         errors("material m { colour chequer { a white  b black }  reflect 0.5 }"),
         ["unknown texture `chequer`"]
@@ -555,4 +570,22 @@ fn mesh_files_are_found_relative_to_the_scene_and_errors_name_them() {
         "{e:?}"
     );
     assert_eq!(e[1], "cannot find the mesh file `gone.ply`");
+}
+
+#[test]
+fn a_group_inside_csg_is_a_union() {
+    // (A ∪ B) ∩ C is A ∪ B here; were the group's children flattened into
+    // the intersection, A ∩ B ∩ C would be empty.
+    let s = build(
+        "intersection {\n\
+           group { sphere { translate <-2, 0, 0> }  sphere { translate <2, 0, 0> } }\n\
+           sphere { radius 3.5 }\n\
+         }",
+    );
+    assert_eq!(s.objects.len(), 1);
+    let r = Ray::new(DVec3::new(10.0, 0.0, 0.0), DVec3::new(-1.0, 0.0, 0.0));
+    let h = s.objects[0]
+        .intersect(&r, 1e-9, f64::INFINITY)
+        .expect("hits B");
+    assert!((h.t - 7.0).abs() < 1e-9, "{}", h.t);
 }

@@ -212,7 +212,7 @@ impl Builder<'_> {
                     csg: ctx.csg,
                     outer: Transform::IDENTITY,
                 };
-                let shapes = self.children(kind, kw, &children, inner);
+                let shapes = self.children(&children, inner);
                 if shapes.is_empty() {
                     Vec::new()
                 } else {
@@ -225,7 +225,7 @@ impl Builder<'_> {
                     csg: None,
                     outer: total,
                 };
-                self.children(kind, kw, &children, inner)
+                self.children(&children, inner)
             }
             "union" | "intersection" | "difference" => {
                 let op = match kind {
@@ -251,7 +251,7 @@ impl Builder<'_> {
                     );
                     Vec::new()
                 } else {
-                    let shapes = self.children(kind, kw, &children, inner);
+                    let shapes = self.children(&children, inner);
                     vec![wrap(Box::new(Csg::new(op, shapes)), total)]
                 }
             }
@@ -265,13 +265,7 @@ impl Builder<'_> {
         out
     }
 
-    fn children(
-        &mut self,
-        _parent: &str,
-        _kw: &Spanned<String>,
-        children: &[params::Child],
-        ctx: Ctx,
-    ) -> Vec<Box<dyn Shape>> {
+    fn children(&mut self, children: &[params::Child], ctx: Ctx) -> Vec<Box<dyn Shape>> {
         let mut out = Vec::new();
         for c in children {
             let shapes = self.object(&c.kw, c.string.as_ref(), &c.block, ctx);
@@ -355,10 +349,6 @@ impl Builder<'_> {
         }
     }
 
-    fn flag(p: &mut params::Params, name: &str) -> Option<Param> {
-        p.take(name)
-    }
-
     fn primitive(
         &mut self,
         kind: &str,
@@ -429,7 +419,7 @@ impl Builder<'_> {
                     Some(0.0)
                 };
                 let h = self.positive_or(p, "height", Some(1.0), kw);
-                let open = Self::flag(p, "open");
+                let open = p.take("open");
                 let top = p.take("top");
                 let bottom = p.take("bottom");
                 let caps = if let Some(o) = &open {
@@ -553,8 +543,8 @@ impl Builder<'_> {
         let Item::Str { text, span, .. } = string else {
             return None;
         };
-        let smooth = Self::flag(p, "smooth");
-        let flat = Self::flag(p, "flat");
+        let smooth = p.take("smooth");
+        let flat = p.take("flat");
         if let (Some(s), Some(f)) = (&smooth, &flat) {
             self.err(
                 Error::new(f.name.span, "a mesh is either `smooth` or `flat`")
@@ -622,7 +612,7 @@ impl Builder<'_> {
                 None => {
                     self.err(
                         Error::new(n.span, format!("`{}` is not an axis", n.node))
-                            .label("expected `x`, `y` or `z`")
+                            .label("expected `x`, `y`, `z` (or a vector for `rotate`)")
                             .maybe_help(did_you_mean(n.node, ["x", "y", "z"])),
                     );
                     None
@@ -656,8 +646,11 @@ impl Builder<'_> {
         match q.name.node.as_str() {
             "translate" => self.vec3(&v[0]).map(|(d, _)| Transform::translate(d)),
             "rotate" => {
-                let axis = match v[0].as_name().and_then(|n| axis_index(n.node)) {
-                    Some(a) => Some(DVec3::AXES[a]),
+                let bare = v[0]
+                    .as_name()
+                    .filter(|n| !self.env.constants.contains_key(n.node));
+                let axis = match bare {
+                    Some(_) => self.axis(&v[0]).map(|a| DVec3::AXES[a]),
                     None => match self.vec3(&v[0]) {
                         Some((a, _)) if a.length() > 0.0 => Some(a),
                         Some((_, s)) => {

@@ -402,3 +402,72 @@ pub fn read(
     }
     out
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::lang::ast::FileId;
+    use crate::lang::parser::parse;
+    use crate::scene::Transfer;
+
+    /// Reads the block of `sphere { … }` with the sphere's schema.
+    fn read_sphere(body: &str) -> (Params, Vec<Error>) {
+        let items = parse(&format!("sphere {{ {body} }}"), FileId(0)).unwrap();
+        let Item::Block(b) = &items[1] else { panic!() };
+        let schema = Schema {
+            own: const {
+                &[
+                    spec("centre", 1, "a 3-vector"),
+                    spec("radius", 1, "a number"),
+                ]
+            },
+            object: true,
+            children: false,
+        };
+        let mut errors = Vec::new();
+        let p = read("sphere", b, &schema, &Env::new(Transfer::Srgb), &mut errors);
+        (p, errors)
+    }
+
+    #[test]
+    fn parameters_in_any_order_and_transforms_in_order() {
+        let (mut p, e) = read_sphere("translate <1,0,0> radius 2 rotate x 90 center <0,1,0>");
+        assert!(e.is_empty(), "{e:?}");
+        assert!(p.take("centre").is_some(), "`center` is read as `centre`");
+        assert_eq!(p.take("radius").unwrap().values.len(), 1);
+        let t: Vec<String> = p
+            .take_transforms()
+            .into_iter()
+            .map(|q| q.name.node)
+            .collect();
+        assert_eq!(t, ["translate", "rotate"]);
+        assert!(p.rest().is_empty());
+    }
+
+    #[test]
+    fn a_minus_after_a_name_is_its_value() {
+        let (mut p, e) = read_sphere("radius -2");
+        assert!(e.is_empty(), "{e:?}");
+        let v = p.take("radius").unwrap();
+        assert!(
+            matches!(&v.values[0], Item::Value(x) if matches!(x.kind, crate::lang::ast::ExprKind::Neg(_)))
+        );
+    }
+
+    #[test]
+    fn mistakes_are_reported_and_reading_goes_on() {
+        let (mut p, e) = read_sphere("radius centre <0,0,0> raduis 1 radius 2 radius 3");
+        let msgs: Vec<&str> = e.iter().map(|e| e.message.as_str()).collect();
+        assert_eq!(
+            msgs,
+            [
+                "`radius` is missing its value",
+                "unknown parameter `raduis` in `sphere`",
+                "`radius` is given twice in `sphere`",
+            ]
+        );
+        assert_eq!(e[1].help.as_deref(), Some("did you mean `radius`?"));
+        assert!(p.take("centre").is_some());
+        assert!(p.had_unknown);
+    }
+}
