@@ -35,7 +35,12 @@ pub fn run(args: &Args) -> Result<()> {
     let clock = Instant::now();
     let program = lang::load(&args.scene)?;
     let parsed = clock.elapsed();
-    let mut scene = scene::build(&program)?;
+    let (mut scene, warnings) = scene::build_with_warnings(&program)?;
+    if !args.quiet {
+        for w in &warnings {
+            eprintln!("warning: {w}");
+        }
+    }
     apply_overrides(args, &mut scene);
     check_size(args, &scene.settings)?;
     let built = clock.elapsed();

@@ -143,3 +143,23 @@ fn huge_images_are_refused_before_allocating() {
     assert!(err.contains("--allow-large"), "{err}");
     assert!(!out.exists());
 }
+
+#[test]
+fn an_unbounded_implicit_surface_renders_with_a_warning() {
+    let (dir, scene) = scene_file(
+        "camera { position <0, 2, 5>  look_at <0, 0, 0> }\nrender { width 8  height 6 }\nimplicit \"y\" { }\n",
+    );
+    let out = dir.path().join("out.png");
+    let o = raytrace(&[scene.as_os_str(), "-o".as_ref(), out.as_os_str()]);
+    assert!(o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("scene.rt:3:11: no bounding box"), "{err}");
+    assert!(out.exists());
+    let o = raytrace(&[
+        scene.as_os_str(),
+        "-o".as_ref(),
+        out.as_os_str(),
+        "--quiet".as_ref(),
+    ]);
+    assert!(o.stderr.is_empty(), "--quiet is quiet");
+}

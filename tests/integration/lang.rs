@@ -589,3 +589,25 @@ fn a_group_inside_csg_is_a_union() {
         .expect("hits B");
     assert!((h.t - 7.0).abs() < 1e-9, "{}", h.t);
 }
+
+#[test]
+fn a_material_may_share_a_keywords_name() {
+    // `mirror` is also a transform; after `material` it is the material.
+    let s = build(
+        "material mirror { colour white  reflect 0.9 }\nsphere { radius 1  material mirror }\nsphere { material mirror  mirror x }",
+    );
+    assert_eq!(s.objects.len(), 2);
+    assert_eq!(s.materials[1].reflect, 0.9);
+}
+
+#[test]
+fn a_minus_after_a_space_starts_a_new_value() {
+    // `rotate y -90` is the axis `y` and the angle −90, not `y - 90`.
+    let s = build("box { min <0, 0, 0>  max <1, 1, 1>  rotate y -90 }");
+    let b = s.objects[0].bounds();
+    assert!(close(b.min, DVec3::new(-1.0, 0.0, 0.0)), "{b:?}");
+    // Subtraction is still subtraction, spaced or not.
+    let s = build("let a = 3\nsphere { radius a - 1  centre <a-1, 0, 0> }");
+    let b = s.objects[0].bounds();
+    assert!(close(b.min, DVec3::new(0.0, -2.0, -2.0)), "{b:?}");
+}

@@ -65,6 +65,9 @@ pub struct Env {
     /// Every constant of the program with where it is defined, for "is
     /// defined later" hints.
     pub all_lets: HashMap<String, Span>,
+    /// Every named material of the program: after `material`, such a name
+    /// is the material even when it is also a keyword (`material mirror`).
+    pub material_names: std::collections::HashSet<String>,
 }
 
 impl Env {
@@ -73,6 +76,7 @@ impl Env {
             constants: HashMap::new(),
             transfer,
             all_lets: HashMap::new(),
+            material_names: Default::default(),
         }
     }
 

@@ -39,11 +39,17 @@ pub const MAX_DEPTH: u32 = 64;
 
 /// Builds the scene, reporting every mistake of the program at once.
 pub fn build(program: &Program) -> Result<Scene, Problems> {
+    build_with_warnings(program).map(|(scene, _)| scene)
+}
+
+/// As [`build`], also giving the warnings: things that render, but perhaps
+/// not as meant or not as fast as they could (each "file:line:col: text").
+pub fn build_with_warnings(program: &Program) -> Result<(Scene, Vec<String>), Problems> {
     let transfer = find_transfer(&program.items);
     let mut b = Builder::new(program, transfer);
     b.top_level(&program.items);
     if b.errors.is_empty() {
-        Ok(b.scene)
+        Ok((b.scene, b.warnings))
     } else {
         Err(program.problems(b.errors))
     }
@@ -53,6 +59,7 @@ struct Builder<'p> {
     program: &'p Program,
     env: Env,
     errors: Vec<Error>,
+    warnings: Vec<String>,
     scene: Scene,
     /// Named materials declared so far.
     materials: HashMap<String, (super::MaterialId, Span)>,
@@ -81,6 +88,7 @@ impl<'p> Builder<'p> {
                 _ => {}
             }
         }
+        env.material_names = all_materials.keys().cloned().collect();
         let settings = RenderSettings {
             transfer,
             ..RenderSettings::default()
@@ -89,6 +97,7 @@ impl<'p> Builder<'p> {
             program,
             env,
             errors: Vec::new(),
+            warnings: Vec::new(),
             scene: Scene {
                 camera: Camera::default(),
                 settings,
@@ -106,6 +115,11 @@ impl<'p> Builder<'p> {
 
     fn err(&mut self, e: Error) {
         self.errors.push(e);
+    }
+
+    fn warn(&mut self, span: Span, text: impl std::fmt::Display) {
+        let place = self.program.sources.location(span);
+        self.warnings.push(format!("{place}: {text}"));
     }
 
     // ---- top level ----

@@ -519,7 +519,13 @@ impl Builder<'_> {
         let env = &self.env;
         let compiled = Equation::compile(text, &|name| env.number_constant(name));
         match compiled {
-            Ok(eq) => Some(Box::new(ImplicitSurface::new(eq, bounds, mat))),
+            Ok(eq) => {
+                let surface = ImplicitSurface::new(eq, bounds, mat);
+                if let Some(note) = surface.bound_note() {
+                    self.warn(*content, note);
+                }
+                Some(Box::new(surface))
+            }
             Err(errs) => {
                 for e in errs {
                     let start = (content.start + e.span.start).min(content.end);

@@ -335,7 +335,18 @@ pub fn read(
             continue;
         };
         let mut values: Vec<Item> = pending.into_iter().collect();
-        while values.len() < spec.arity && i < items.len() && !starts_param(&items[i]) {
+        // A declared material's name is `material`'s value even when it
+        // is also a keyword (`material mirror`).
+        let material_name = |it: &Item| {
+            spec.name == "material"
+                && it
+                    .as_name()
+                    .is_some_and(|n| env.material_names.contains(n.node))
+        };
+        while values.len() < spec.arity
+            && i < items.len()
+            && (!starts_param(&items[i]) || (values.is_empty() && material_name(&items[i])))
+        {
             values.push(items[i].clone());
             i += 1;
         }
