@@ -10,8 +10,9 @@
 //! Split positions are rounded to `f32` before the items are partitioned,
 //! so the 8-byte nodes store exactly the plane that was used.
 //!
-//! Traversal: front to back with a small stack; a segment whose start lies
-//! beyond the nearest hit found so far ends the walk. A ray parallel to a
+//! Traversal: front to back with a small stack; the walk ends at a leaf
+//! whose segment holds the nearest hit found so far, or at a segment that
+//! starts beyond it. A ray parallel to a
 //! split plane (zero direction component) goes only to the side its origin
 //! is on, or to both when it lies in the plane.
 
@@ -33,6 +34,7 @@ impl Node {
             b: offset as u32,
         }
     }
+    #[inline(always)]
     fn is_leaf(&self) -> bool {
         self.a & 3 == 3
     }
@@ -196,17 +198,14 @@ impl KdTree {
     ) -> Option<f64> {
         let mut best = t_max;
         let mut found = false;
-        self.walk(ray, t_min, t_max, |items, seg_min| {
-            if seg_min > best {
-                return true;
-            }
+        self.walk(ray, t_min, t_max, |items| {
             for &i in items {
                 if let Some(t) = test(i, best) {
                     best = t;
                     found = true;
                 }
             }
-            false
+            best
         });
         found.then_some(best)
     }
@@ -221,9 +220,9 @@ impl KdTree {
         mut test: impl FnMut(u32) -> bool,
     ) -> bool {
         let mut hit = false;
-        self.walk(ray, t_min, t_max, |items, _| {
+        self.walk(ray, t_min, t_max, |items| {
             hit = items.iter().any(|&i| test(i));
-            hit
+            if hit { f64::NEG_INFINITY } else { t_max }
         });
         hit
     }
@@ -231,16 +230,19 @@ impl KdTree {
     /// Calls `visit` on every item in every leaf the whole line crosses
     /// (an item may come more than once).
     pub fn along_line(&self, ray: &Ray, mut visit: impl FnMut(u32)) {
-        self.walk(ray, f64::NEG_INFINITY, f64::INFINITY, |items, _| {
+        self.walk(ray, f64::NEG_INFINITY, f64::INFINITY, |items| {
             items.iter().for_each(|&i| visit(i));
-            false
+            f64::INFINITY
         });
     }
 
-    /// Visits the leaves along the segment front to back; `leaf(items,
-    /// segment_start)` returns true to stop.
+    /// Visits the leaves along the segment front to back. `leaf(items)`
+    /// returns the search limit after it (the nearest hit so far). The walk
+    /// ends as soon as the limit lies within the leaf just visited, or
+    /// before the next segment when that starts beyond it: every later
+    /// leaf lies farther along the ray.
     #[inline]
-    fn walk(&self, ray: &Ray, t_min: f64, t_max: f64, mut leaf: impl FnMut(&[u32], f64) -> bool) {
+    fn walk(&self, ray: &Ray, t_min: f64, t_max: f64, mut leaf: impl FnMut(&[u32]) -> f64) {
         if self.items.is_empty() {
             return;
         }
@@ -252,16 +254,20 @@ impl KdTree {
         let inv = ray.dir.recip().to_array();
         let origin = ray.origin.to_array();
         let dir = ray.dir.to_array();
+        let nodes = self.nodes.as_slice();
         // Not zeroed per ray: every slot is written before it is read.
         let mut stack = [std::mem::MaybeUninit::<(u32, f64, f64)>::uninit(); STACK];
         let mut sp = 0;
         let mut node = 0usize;
+        let mut limit = t_max;
         loop {
-            let n = self.nodes[node];
+            debug_assert!(node < nodes.len());
+            // SAFETY: the builder links only to nodes it pushed.
+            let n = unsafe { *nodes.get_unchecked(node) };
             if !n.is_leaf() {
                 let axis = (n.a & 3) as usize;
                 let split = f32::from_bits(n.b) as f64;
-                let (o, d) = (origin[axis], dir[axis]);
+                let (o, d, iv) = (origin[axis], dir[axis], inv[axis]);
                 let below = node + 1;
                 let above = (n.a >> 2) as usize;
                 if d == 0.0 {
@@ -276,7 +282,7 @@ impl KdTree {
                     }
                     continue;
                 }
-                let tp = (split - o) * inv[axis];
+                let tp = (split - o) * iv;
                 let (first, second) = if d > 0.0 {
                     (below, above)
                 } else {
@@ -297,7 +303,11 @@ impl KdTree {
             let count = (n.a >> 2) as usize;
             if count > 0 {
                 let off = n.b as usize;
-                if leaf(&self.items[off..off + count], lo) {
+                debug_assert!(off + count <= self.items.len());
+                // SAFETY: leaves point inside the item list they were built with.
+                let items = unsafe { self.items.get_unchecked(off..off + count) };
+                limit = leaf(items);
+                if limit <= hi {
                     return;
                 }
             }
@@ -307,6 +317,9 @@ impl KdTree {
             sp -= 1;
             // SAFETY: slots below `sp` were written by a push.
             let (nn, l, h) = unsafe { stack[sp].assume_init() };
+            if l > limit {
+                return;
+            }
             node = nn as usize;
             lo = l;
             hi = h;
@@ -464,15 +477,19 @@ impl Builder<'_> {
         let mut hi_count = [[0u32; BINS]; 3];
         let bmin = bounds.min.to_array();
         let scale = ext.map(|e| BINS as f64 / e);
+        // `max` then `min` clamp to the bins and turn NaN (a flat axis)
+        // into 0, so the unchecked cast below always gets a bin number;
+        // a checked `as usize` costs a dozen instructions per call here.
+        let bin = |x: f64| -> usize {
+            let c = x.max(0.0).min((BINS - 1) as f64);
+            // SAFETY: `c` is finite and in 0..BINS.
+            unsafe { c.to_int_unchecked::<u32>() as usize }
+        };
         for &i in items {
             let [lo, hi] = &self.boxes[i as usize];
             for axis in 0..3 {
-                // Float-to-int casts saturate (and NaN from a flat axis
-                // gives 0), so every box lands in some bin.
-                let l = ((lo[axis] - bmin[axis]) * scale[axis]) as usize;
-                let h = ((hi[axis] - bmin[axis]) * scale[axis]) as usize;
-                lo_count[axis][l.min(BINS - 1)] += 1;
-                hi_count[axis][h.min(BINS - 1)] += 1;
+                lo_count[axis][bin((lo[axis] - bmin[axis]) * scale[axis])] += 1;
+                hi_count[axis][bin((hi[axis] - bmin[axis]) * scale[axis])] += 1;
             }
         }
         for axis in 0..3 {
@@ -516,8 +533,8 @@ impl Builder<'_> {
                 maxs[k] = b[1][axis] as f32 as f64;
             }
             let (mins, maxs) = (&mut mins[..n], &mut maxs[..n]);
-            mins.sort_unstable_by(f64::total_cmp);
-            maxs.sort_unstable_by(f64::total_cmp);
+            insertion_sort(mins);
+            insertion_sort(maxs);
             // Sweep the candidate planes in order: below = #{min < s},
             // above = #{max > s}.
             let (mut i, mut j) = (0, 0);
@@ -546,6 +563,21 @@ impl Builder<'_> {
             }
         }
         best
+    }
+}
+
+/// Sorts a dozen finite numbers: far cheaper than the general sort for
+/// the tens of thousands of tiny nodes at the bottom of a tree.
+#[inline]
+fn insertion_sort(v: &mut [f64]) {
+    for i in 1..v.len() {
+        let x = v[i];
+        let mut j = i;
+        while j > 0 && v[j - 1] > x {
+            v[j] = v[j - 1];
+            j -= 1;
+        }
+        v[j] = x;
     }
 }
 

@@ -196,6 +196,12 @@ fn normalise(bytes: &[u8]) -> Vec<u8> {
 
 /// Reads a whole PLY file from memory.
 pub fn parse(bytes: &[u8]) -> Result<PlyMesh, PlyError> {
+    parse_with(bytes, true)
+}
+
+/// `fast` lets the bulk data bypass the crate's grammar (see [`fast`]);
+/// the tests compare both ways.
+fn parse_with(bytes: &[u8], fast: bool) -> Result<PlyMesh, PlyError> {
     if bytes.is_empty() {
         return Err(err("the file is empty, not a PLY file", None, None));
     }
@@ -227,7 +233,7 @@ pub fn parse(bytes: &[u8]) -> Result<PlyMesh, PlyError> {
     // The crate has shown no panics on mangled input (see the property test),
     // but it is third-party code fed user bytes: a panic would take the
     // whole render down, so it is caught and reported as a bad file.
-    let result = std::panic::catch_unwind(|| read(&text));
+    let result = std::panic::catch_unwind(|| read(&text, fast));
     result.unwrap_or_else(|_| {
         Err(err(
             "the file is malformed (the PLY reader gave up)",
@@ -237,7 +243,7 @@ pub fn parse(bytes: &[u8]) -> Result<PlyMesh, PlyError> {
     })
 }
 
-fn read(bytes: &[u8]) -> Result<PlyMesh, PlyError> {
+fn read(bytes: &[u8], try_fast: bool) -> Result<PlyMesh, PlyError> {
     let parser = Parser::<Elem>::new();
     let mut reader = Reader::new(bytes);
     let header = parser
@@ -290,11 +296,40 @@ fn read(bytes: &[u8]) -> Result<PlyMesh, PlyError> {
     }
     let line_of = |element: &str, i: usize| ascii.then(|| first_line[element] + i);
 
-    let mut vertices = Vec::new();
-    let mut faces = Vec::new();
+    let payload: &[u8] = reader.get_ref();
+    let raw = match try_fast.then(|| fast::payload(payload, &header)).flatten() {
+        Some(raw) => raw,
+        None => slow_payload(&parser, &mut reader, &header, line)?,
+    };
+    finish(raw, line_of)
+}
+
+/// The payload as plain arrays, whichever reader produced it.
+#[derive(Default)]
+struct Raw {
+    /// Per vertex: x y z nx ny nz u v, and bits telling which were present.
+    values: Vec<[f64; 8]>,
+    set: Vec<u8>,
+    /// Face `i`'s indices are `indices[starts[i]..starts[i + 1]]`.
+    starts: Vec<usize>,
+    indices: Vec<i64>,
+    /// The first face whose index list was not of integers.
+    bad_list: Option<usize>,
+}
+
+/// The payload through the crate's per-token reader: every file the fast
+/// path declines, and so every malformed one, with the crate's diagnostics.
+fn slow_payload(
+    parser: &Parser<Elem>,
+    reader: &mut Reader<&[u8]>,
+    header: &ply_rs_bw::ply::Header,
+    end_line: usize,
+) -> Result<Raw, PlyError> {
+    let ascii = header.encoding == Encoding::Ascii;
+    let mut raw = Raw::default();
     for (name, def) in &header.elements {
         let elems = parser
-            .read_payload_for_element(&mut reader, def, &header)
+            .read_payload_for_element(reader, def, header)
             .map_err(|e| {
                 let msg = match e.kind() {
                     std::io::ErrorKind::UnexpectedEof => format!(
@@ -306,8 +341,25 @@ fn read(bytes: &[u8]) -> Result<PlyMesh, PlyError> {
                 err(msg, e.line().filter(|_| ascii), Some(name.clone()))
             })?;
         match name.as_str() {
-            "vertex" => vertices = elems,
-            "face" => faces = elems,
+            "vertex" => {
+                raw.values = elems.iter().map(|v| v.values).collect();
+                raw.set = elems.iter().map(|v| v.set).collect();
+            }
+            "face" => {
+                raw.starts = Vec::with_capacity(elems.len() + 1);
+                raw.starts.push(0);
+                for (i, f) in elems.iter().enumerate() {
+                    if f.bad_list && raw.bad_list.is_none() {
+                        raw.bad_list = Some(i);
+                    }
+                    if f.ints.is_empty() {
+                        raw.indices.extend_from_slice(&f.wide);
+                    } else {
+                        raw.indices.extend(f.ints.iter().map(|&x| x as i64));
+                    }
+                    raw.starts.push(raw.indices.len());
+                }
+            }
             _ => {}
         }
     }
@@ -320,21 +372,26 @@ fn read(bytes: &[u8]) -> Result<PlyMesh, PlyError> {
     if trailing {
         return Err(err(
             "there is more data than the header declares (wrong element counts?)",
-            ascii.then_some(line),
+            ascii.then_some(end_line),
             None,
         ));
     }
+    Ok(raw)
+}
 
+/// Checks the arrays and makes the mesh: finite positions, index ranges,
+/// polygons cut into fans.
+fn finish(raw: Raw, line_of: impl Fn(&str, usize) -> Option<usize>) -> Result<PlyMesh, PlyError> {
     let mut out = PlyMesh {
-        positions: Vec::with_capacity(vertices.len()),
+        positions: Vec::with_capacity(raw.values.len()),
         ..PlyMesh::default()
     };
-    let all = |bits: u8| vertices.iter().all(|v| v.set & bits == bits);
+    let all = |bits: u8| raw.set.iter().all(|s| s & bits == bits);
     let (has_n, has_uv) = (all(NX | NY | NZ), all(U | V));
     let mut normals = Vec::new();
     let mut uvs = Vec::new();
-    for (i, v) in vertices.iter().enumerate() {
-        let p = DVec3::new(v.values[0], v.values[1], v.values[2]);
+    for (i, v) in raw.values.iter().enumerate() {
+        let p = DVec3::new(v[0], v[1], v[2]);
         if !p.is_finite() {
             return Err(err(
                 format!("vertex {i} has a coordinate that is not a finite number"),
@@ -344,18 +401,19 @@ fn read(bytes: &[u8]) -> Result<PlyMesh, PlyError> {
         }
         out.positions.push(p);
         if has_n {
-            let n = DVec3::new(v.values[3], v.values[4], v.values[5]);
+            let n = DVec3::new(v[3], v[4], v[5]);
             normals.push(if n.is_finite() { n } else { DVec3::ZERO });
         }
         if has_uv {
-            let uv = DVec2::new(v.values[6], v.values[7]);
+            let uv = DVec2::new(v[6], v[7]);
             uvs.push(if uv.is_finite() { uv } else { DVec2::ZERO });
         }
     }
-    drop(vertices);
+    drop(raw.values);
     let n = out.positions.len() as i64;
-    out.triangles.reserve(faces.len());
-    for (i, f) in faces.iter().enumerate() {
+    let faces = raw.starts.len().saturating_sub(1);
+    out.triangles.reserve(faces);
+    for i in 0..faces {
         let bad = |what: String| {
             err(
                 format!("face {i}: {what}"),
@@ -363,14 +421,10 @@ fn read(bytes: &[u8]) -> Result<PlyMesh, PlyError> {
                 Some(format!("face {i}")),
             )
         };
-        if f.bad_list {
+        if raw.bad_list == Some(i) {
             return Err(bad("vertex indices must be integers".into()));
         }
-        let idx: Vec<i64> = if f.ints.is_empty() {
-            f.wide.clone()
-        } else {
-            f.ints.iter().map(|&x| x as i64).collect()
-        };
+        let idx = &raw.indices[raw.starts[i]..raw.starts[i + 1]];
         if idx.len() < 3 {
             return Err(bad(format!(
                 "a face needs at least 3 vertices, this one has {}",
@@ -393,6 +447,369 @@ fn read(bytes: &[u8]) -> Result<PlyMesh, PlyError> {
     out.normals = has_n.then_some(normals);
     out.uvs = has_uv.then_some(uvs);
     Ok(out)
+}
+
+/// A fast reader for the bulk data of well-formed files. The crate reads
+/// the header (it stays the reader of record); its grammar costs a few
+/// hundred instructions per number, so the element data of a file this
+/// module can read plainly is read here. Anything unusual (a token that is
+/// not a plain number, a count that does not fit, data left over) makes it
+/// give up, and the crate's reader then reads the file and reports.
+mod fast {
+    use super::{Raw, is_index_list};
+    use ply_rs_bw::ply::{Encoding, Header, PropertyType, ScalarType};
+
+    /// Where a property's values go.
+    #[derive(Clone, Copy)]
+    enum Sink {
+        Skip,
+        Vertex(usize),
+        Indices,
+    }
+
+    pub(super) fn payload(bytes: &[u8], header: &Header) -> Option<Raw> {
+        let mut raw = Raw::default();
+        let mut src = match header.encoding {
+            Encoding::Ascii => Source::Ascii(bytes, 0),
+            Encoding::BinaryLittleEndian => Source::Binary(bytes, 0, false),
+            Encoding::BinaryBigEndian => Source::Binary(bytes, 0, true),
+        };
+        for (name, def) in &header.elements {
+            let is_vertex = name == "vertex";
+            let is_face = name == "face";
+            let props: Vec<(PropertyType, Sink)> = def
+                .properties
+                .iter()
+                .map(|(pname, p)| {
+                    let sink = if is_vertex {
+                        slot(pname).map_or(Sink::Skip, Sink::Vertex)
+                    } else if is_face && is_index_list(pname) {
+                        Sink::Indices
+                    } else {
+                        Sink::Skip
+                    };
+                    (p.data_type.clone(), sink)
+                })
+                .collect();
+            if is_face {
+                // Exactly one index list, of integers: else the crate decides.
+                let lists: Vec<_> = props
+                    .iter()
+                    .filter(|(_, s)| matches!(s, Sink::Indices))
+                    .collect();
+                match lists.as_slice() {
+                    [(PropertyType::List(_, t), _)] if !is_float(t) => {}
+                    _ => return None,
+                }
+                raw.starts = Vec::with_capacity(def.count.min(1 << 26) + 1);
+                raw.starts.push(0);
+                raw.indices.reserve(3 * def.count.min(1 << 26));
+            }
+            if is_vertex {
+                raw.values = Vec::with_capacity(def.count.min(1 << 26));
+                raw.set = Vec::with_capacity(def.count.min(1 << 26));
+            }
+            for _ in 0..def.count {
+                src.begin_record()?;
+                let mut values = [0f64; 8];
+                let mut set = 0u8;
+                for (ty, sink) in &props {
+                    match ty {
+                        PropertyType::Scalar(t) => {
+                            let v = src.scalar(t)?;
+                            if let Sink::Vertex(k) = sink {
+                                values[*k] = v;
+                                set |= 1 << *k;
+                            }
+                        }
+                        PropertyType::List(count_type, t) => {
+                            let count = src.count(count_type)?;
+                            for _ in 0..count {
+                                let v = src.scalar(t)?;
+                                if let Sink::Indices = sink {
+                                    raw.indices.push(v as i64);
+                                }
+                            }
+                        }
+                    }
+                }
+                src.end_record()?;
+                if is_vertex {
+                    raw.values.push(values);
+                    raw.set.push(set);
+                }
+                if is_face {
+                    raw.starts.push(raw.indices.len());
+                }
+            }
+        }
+        src.at_end().then_some(raw)
+    }
+
+    /// Whether a whole file's data goes through here (for the tests).
+    #[cfg(test)]
+    pub(super) fn payload_is_fast(bytes: &[u8]) -> bool {
+        use ply_rs_bw::parser::{Parser, Reader};
+        let mut reader = Reader::new(bytes);
+        let Ok(header) = Parser::<super::Elem>::new().read_header(&mut reader) else {
+            return false;
+        };
+        payload(reader.get_ref(), &header).is_some()
+    }
+
+    /// The slot of a vertex property in `Raw::values` (see `Elem::scalar`).
+    fn slot(name: &str) -> Option<usize> {
+        Some(match name {
+            "x" => 0,
+            "y" => 1,
+            "z" => 2,
+            "nx" => 3,
+            "ny" => 4,
+            "nz" => 5,
+            "u" | "s" | "texture_u" | "texture_s" => 6,
+            "v" | "t" | "texture_v" | "texture_t" => 7,
+            _ => return None,
+        })
+    }
+
+    fn is_float(t: &ScalarType) -> bool {
+        matches!(t, ScalarType::Float | ScalarType::Double)
+    }
+
+    /// The crate's number grammar, `[+-]? d+ (. d+)? ([eE] [+-]? d+)?`:
+    /// a token it would refuse must reach it, to be refused there.
+    fn crate_number(s: &[u8]) -> bool {
+        let mut i = 0;
+        let digits = |i: &mut usize| {
+            let start = *i;
+            while *i < s.len() && s[*i].is_ascii_digit() {
+                *i += 1;
+            }
+            *i > start
+        };
+        if matches!(s.first(), Some(b'+' | b'-')) {
+            i += 1;
+        }
+        if !digits(&mut i) {
+            return false;
+        }
+        if s.get(i) == Some(&b'.') {
+            i += 1;
+            if !digits(&mut i) {
+                return false;
+            }
+        }
+        if matches!(s.get(i), Some(b'e' | b'E')) {
+            i += 1;
+            if matches!(s.get(i), Some(b'+' | b'-')) {
+                i += 1;
+            }
+            if !digits(&mut i) {
+                return false;
+            }
+        }
+        i == s.len()
+    }
+
+    /// An integer token: an optional `-` and up to 18 digits (no `+`, so
+    /// that an unsigned type never meets a sign the crate might refuse).
+    fn int(s: &[u8]) -> Option<i64> {
+        let (neg, digits) = match s.split_first()? {
+            (b'-', rest) => (true, rest),
+            _ => (false, s),
+        };
+        if digits.is_empty() || digits.len() > 18 {
+            return None;
+        }
+        let mut v = 0i64;
+        for &c in digits {
+            if !c.is_ascii_digit() {
+                return None;
+            }
+            v = v * 10 + (c - b'0') as i64;
+        }
+        Some(if neg { -v } else { v })
+    }
+
+    /// A decimal `[-]digits[.digits]` as (negative, its digits as an
+    /// integer, power of ten), when it has at most 18 significant digits.
+    fn decimal(s: &[u8]) -> Option<(bool, u64, i32)> {
+        let (neg, s) = match s.split_first()? {
+            (b'-', rest) => (true, rest),
+            _ => (false, s),
+        };
+        let (mut m, mut exp, mut digits, mut dot, mut any) = (0u64, 0i32, 0, false, false);
+        for &c in s {
+            match c {
+                b'0'..=b'9' => {
+                    any = true;
+                    // Leading zeros add no precision.
+                    if m != 0 || c != b'0' {
+                        digits += 1;
+                        if digits > 18 {
+                            return None;
+                        }
+                        m = m * 10 + (c - b'0') as u64;
+                    }
+                    if dot {
+                        exp -= 1;
+                    }
+                }
+                b'.' if !dot => dot = true,
+                _ => return None,
+            }
+        }
+        any.then_some((neg, m, exp))
+    }
+
+    /// Powers of ten that are exact in `f64` (up to 1e10 also in `f32`).
+    const POW10: [f64; 23] = [
+        1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16,
+        1e17, 1e18, 1e19, 1e20, 1e21, 1e22,
+    ];
+
+    /// Clinger's fast path: when the digits and the power of ten are both
+    /// exact in the type, one multiplication or division rounds correctly,
+    /// giving the standard parser's value. Other numbers go to that parser.
+    pub(super) fn float32(s: &[u8]) -> Option<f32> {
+        if let Some((neg, m, e)) = decimal(s)
+            && m < (1 << 24)
+            && (-10..=10).contains(&e)
+        {
+            let p = POW10[e.unsigned_abs() as usize] as f32;
+            let v = if e < 0 { m as f32 / p } else { m as f32 * p };
+            return Some(if neg { -v } else { v });
+        }
+        std::str::from_utf8(s).ok()?.parse().ok()
+    }
+
+    pub(super) fn float64(s: &[u8]) -> Option<f64> {
+        if let Some((neg, m, e)) = decimal(s)
+            && m < (1 << 53)
+            && (-22..=22).contains(&e)
+        {
+            let p = POW10[e.unsigned_abs() as usize];
+            let v = if e < 0 { m as f64 / p } else { m as f64 * p };
+            return Some(if neg { -v } else { v });
+        }
+        std::str::from_utf8(s).ok()?.parse().ok()
+    }
+
+    enum Source<'a> {
+        /// The text and the position in it.
+        Ascii(&'a [u8], usize),
+        /// The bytes, the position, big-endian.
+        Binary(&'a [u8], usize, bool),
+    }
+
+    impl Source<'_> {
+        /// ASCII: one record per line, nothing before it but blanks.
+        fn begin_record(&mut self) -> Option<()> {
+            match self {
+                Source::Ascii(b, p) => {
+                    while *p < b.len() && (b[*p] == b' ' || b[*p] == b'\t') {
+                        *p += 1;
+                    }
+                    (*p < b.len()).then_some(())
+                }
+                Source::Binary(..) => Some(()),
+            }
+        }
+
+        /// ASCII: the rest of the line must be blank, then a line end.
+        fn end_record(&mut self) -> Option<()> {
+            match self {
+                Source::Ascii(b, p) => {
+                    while *p < b.len() && (b[*p] == b' ' || b[*p] == b'\t') {
+                        *p += 1;
+                    }
+                    if *p < b.len() && b[*p] == b'\n' {
+                        *p += 1;
+                        Some(())
+                    } else {
+                        None
+                    }
+                }
+                Source::Binary(..) => Some(()),
+            }
+        }
+
+        fn at_end(&self) -> bool {
+            match self {
+                Source::Ascii(b, p) => b[*p..].iter().all(|c| c.is_ascii_whitespace()),
+                Source::Binary(b, p, _) => *p == b.len(),
+            }
+        }
+
+        /// The next token of a line: plain number characters only.
+        fn token<'b>(b: &'b [u8], p: &mut usize) -> Option<&'b [u8]> {
+            let mut i = *p;
+            while i < b.len() && (b[i] == b' ' || b[i] == b'\t') {
+                i += 1;
+            }
+            let start = i;
+            while i < b.len() && matches!(b[i], b'0'..=b'9' | b'+' | b'-' | b'.' | b'e' | b'E') {
+                i += 1;
+            }
+            *p = i;
+            if i < b.len() && !matches!(b[i], b' ' | b'\t' | b'\n') {
+                return None;
+            }
+            let s = &b[start..i];
+            crate_number(s).then_some(s)
+        }
+
+        fn bytes<const N: usize>(&mut self) -> Option<[u8; N]> {
+            let Source::Binary(b, p, big) = self else {
+                return None;
+            };
+            let mut a: [u8; N] = b.get(*p..*p + N)?.try_into().ok()?;
+            *p += N;
+            if *big {
+                a.reverse();
+            }
+            Some(a)
+        }
+
+        /// A scalar of type `t`, widened to `f64` as the crate's setters do.
+        fn scalar(&mut self, t: &ScalarType) -> Option<f64> {
+            if let Source::Ascii(b, p) = self {
+                let s = Self::token(b, p)?;
+                return Some(match t {
+                    ScalarType::Char => i8::try_from(int(s)?).ok()?.into(),
+                    ScalarType::UChar => u8::try_from(int(s)?).ok()?.into(),
+                    ScalarType::Short => i16::try_from(int(s)?).ok()?.into(),
+                    ScalarType::UShort => u16::try_from(int(s)?).ok()?.into(),
+                    ScalarType::Int => i32::try_from(int(s)?).ok()?.into(),
+                    ScalarType::UInt => u32::try_from(int(s)?).ok()?.into(),
+                    ScalarType::Float => float32(s)?.into(),
+                    ScalarType::Double => float64(s)?,
+                });
+            }
+            Some(match t {
+                ScalarType::Char => i8::from_le_bytes(self.bytes()?).into(),
+                ScalarType::UChar => u8::from_le_bytes(self.bytes()?).into(),
+                ScalarType::Short => i16::from_le_bytes(self.bytes()?).into(),
+                ScalarType::UShort => u16::from_le_bytes(self.bytes()?).into(),
+                ScalarType::Int => i32::from_le_bytes(self.bytes()?).into(),
+                ScalarType::UInt => u32::from_le_bytes(self.bytes()?).into(),
+                ScalarType::Float => f32::from_le_bytes(self.bytes()?).into(),
+                ScalarType::Double => f64::from_le_bytes(self.bytes()?),
+            })
+        }
+
+        /// A list's length.
+        fn count(&mut self, t: &ScalarType) -> Option<usize> {
+            if let Source::Ascii(b, p) = self {
+                return usize::try_from(int(Self::token(b, p)?)?).ok();
+            }
+            if is_float(t) {
+                return None;
+            }
+            let v = self.scalar(t)?;
+            (v >= 0.0).then_some(v as usize)
+        }
+    }
 }
 
 /// The crate's message without its own "Line N:" prefix (the line is kept
@@ -593,6 +1010,53 @@ mod tests {
     }
 
     #[test]
+    fn the_fast_reader_agrees_with_the_crate() {
+        let mut files: Vec<Vec<u8>> = Vec::new();
+        for format in ["ascii", "binary_little_endian", "binary_big_endian"] {
+            for list in ["uchar int", "uint uint", "ushort ushort", "char short"] {
+                files.push(square(format, list));
+            }
+        }
+        files.push(
+            b"ply\nformat ascii 1.0\nelement vertex 3\nproperty double x\nproperty double y\n\
+              property double z\nproperty float nx\nproperty float ny\nproperty float nz\n\
+              property float u\nproperty float v\nelement face 1\nproperty list uchar int vertex_indices\n\
+              end_header\n-0.0378297 0.12794 1e-3 0 0 1 0.25 0.5\n1.5 -0.000123456789 3 0 0 1 0.75 1\n\
+              0.5 2.5E+1 +7 0 0 1 1 1\n3 0 1 2\n"
+                .to_vec(),
+        );
+        let (positions, triangles) = icosphere(2);
+        let faces: Vec<Vec<u32>> = triangles.iter().map(|t| t.to_vec()).collect();
+        files.push(write_ascii(&positions, &faces).into_bytes());
+        // Numbers the crate's grammar refuses stay refused.
+        let bad = b"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n\
+                    property float z\nelement face 1\nproperty list uchar int vertex_indices\n\
+                    end_header\n.5 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+        assert!(parse(bad).is_err());
+        for f in &files {
+            let fast = parse_with(f, true).unwrap();
+            assert_eq!(fast, parse_with(f, false).unwrap());
+            let text = String::from_utf8_lossy(f);
+            assert!(
+                !text.contains("format ascii") || fast::payload_is_fast(f),
+                "the fast path declined {text}"
+            );
+        }
+    }
+
+    proptest! {
+        #[test]
+        fn fast_numbers_match_the_standard_parser(
+            int in 0u64..100_000_000, frac in 0u64..10_000_000, digits in 0usize..9, neg: bool,
+        ) {
+            let frac = format!("{frac:07}");
+            let s = format!("{}{int}.{}", if neg { "-" } else { "" }, &frac[..digits.min(7)]);
+            prop_assert_eq!(fast::float32(s.as_bytes()), s.parse::<f32>().ok());
+            prop_assert_eq!(fast::float64(s.as_bytes()), s.parse::<f64>().ok());
+        }
+    }
+
+    #[test]
     fn line_endings_crlf_and_cr_only() {
         let lf = String::from_utf8(square("ascii", "uchar int")).unwrap();
         let want = parse(lf.as_bytes()).unwrap();
@@ -740,7 +1204,8 @@ mod tests {
             if !b.is_empty() && cut.index(4) == 0 {
                 b.truncate(cut.index(b.len()));
             }
-            let _ = read(&b);
+            let _ = read(&b, false);
+            let _ = read(&b, true);
             let _ = parse(&b);
         }
     }
