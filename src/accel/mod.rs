@@ -139,12 +139,18 @@ impl World {
     }
 
     pub fn intersect(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<Hit> {
-        let mut best = None;
+        self.nearest(ray, t_min, t_max).map(|(h, _)| h)
+    }
+
+    /// The nearest hit and the object that made it (which gives the hit's
+    /// texture coordinates, see [`Shape::uv`]).
+    pub fn nearest(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<(Hit, &dyn Shape)> {
+        let mut best: Option<(Hit, &dyn Shape)> = None;
         let mut t_best = t_max;
         for o in &self.unbounded {
             if let Some(h) = o.intersect(ray, t_min, t_best) {
                 t_best = h.t;
-                best = Some(h);
+                best = Some((h, &**o));
             }
         }
         let mut mailbox = Mailbox::default();
@@ -152,8 +158,9 @@ impl World {
             if mailbox.seen(i) {
                 return None;
             }
-            let h = self.bounded[i as usize].intersect(ray, t_min, limit)?;
-            best = Some(h);
+            let o = &*self.bounded[i as usize];
+            let h = o.intersect(ray, t_min, limit)?;
+            best = Some((h, o));
             Some(h.t)
         });
         best

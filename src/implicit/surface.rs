@@ -135,6 +135,7 @@ impl ImplicitSurface {
             uv: DVec2::ZERO,
             local: p,
             material: self.material,
+            path: 0,
         }
     }
 

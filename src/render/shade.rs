@@ -30,10 +30,13 @@ impl<'a> Tracer<'a> {
         } else {
             counts.reflected += 1;
         }
-        let Some(hit) = self.world.intersect(ray, 0.0, f64::INFINITY) else {
+        let Some((mut hit, object)) = self.world.nearest(ray, 0.0, f64::INFINITY) else {
             return self.scene.settings.background;
         };
         let material = &self.scene.materials[hit.material as usize];
+        if material.texture.reads_uv() {
+            hit.uv = object.uv(&hit);
+        }
         let p = ray.at(hit.t);
         let mut n = hit.normal.normalize_or_zero();
         if n.dot(ray.dir) > 0.0 {

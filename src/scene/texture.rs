@@ -65,6 +65,12 @@ fn course_checker_coordinate(s: f64, k: f64) -> i64 {
 }
 
 impl Texture {
+    /// Whether the texture reads the hit's (u, v), which some shapes
+    /// compute only on request ([`crate::shapes::Shape::uv`]).
+    pub fn reads_uv(&self) -> bool {
+        matches!(self, Texture::Checker { .. } | Texture::Image(_))
+    }
+
     pub fn colour_at(&self, hit: &Hit) -> Colour {
         match self {
             Texture::Solid(c) => *c,
@@ -119,6 +125,7 @@ mod tests {
             uv: DVec2::new(u, v),
             local: DVec3::ZERO,
             material: 0,
+            path: 0,
         }
     }
 

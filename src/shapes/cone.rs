@@ -50,6 +50,14 @@ impl Shape for Cone {
     fn is_solid(&self) -> bool {
         self.frustum.caps.is_some()
     }
+    fn uv(&self, hit: &Hit) -> DVec2 {
+        self.frustum.uv(hit)
+    }
+}
+
+/// A cap's (u, v): the disc's, in the x-z plane (`q` relative to the centre).
+fn cap_uv(q: DVec3, r: f64) -> DVec2 {
+    DVec2::new((q.x + r) / (2.0 * r), (q.z + r) / (2.0 * r))
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -174,16 +182,8 @@ impl Frustum {
                 } else {
                     -DVec3::Y
                 };
-                let mut u = q.x.atan2(q.z) / (2.0 * PI);
-                if u < 0.0 {
-                    u += 1.0;
-                }
-                let v = q.y / self.height + 0.5;
-                (
-                    n.try_normalize().unwrap_or(apex),
-                    DVec2::new(u.min(1.0 - f64::EPSILON), v),
-                    self.side,
-                )
+                // The side's (u, v) needs atan2: left to `uv`.
+                (n.try_normalize().unwrap_or(apex), DVec2::ZERO, self.side)
             }
             Surface::Top | Surface::Bottom => {
                 let caps = self.caps.unwrap_or([self.side; 2]);
@@ -192,8 +192,7 @@ impl Frustum {
                 } else {
                     (self.r0, -DVec3::Y, caps[1])
                 };
-                let uv = DVec2::new((q.x + r) / (2.0 * r), (q.z + r) / (2.0 * r));
-                (n, uv, m)
+                (n, cap_uv(q, r), m)
             }
         };
         Hit {
@@ -202,7 +201,29 @@ impl Frustum {
             uv,
             local: p,
             material,
+            path: 0,
         }
+    }
+
+    /// Texture coordinates of a hit this frustum returned: a point on a cap's
+    /// plane strictly inside its rim is a cap hit, anything else the side
+    /// (a ray along a cap's plane meets the side at the rim).
+    pub(super) fn uv(&self, hit: &Hit) -> DVec2 {
+        let q = hit.local - self.centre;
+        if self.caps.is_some() {
+            let slack = RIM * self.height;
+            let rho2 = q.x * q.x + q.z * q.z;
+            for (y, r) in [(self.y1, self.r1), (self.y0, self.r0)] {
+                if (hit.local.y - y).abs() <= slack && rho2 < r * r * (1.0 - RIM) {
+                    return cap_uv(q, r);
+                }
+            }
+        }
+        let mut u = q.x.atan2(q.z) / (2.0 * PI);
+        if u < 0.0 {
+            u += 1.0;
+        }
+        DVec2::new(u.min(1.0 - f64::EPSILON), q.y / self.height + 0.5)
     }
 
     /// The crossings in increasing t: for a solid only the first and the last
@@ -275,7 +296,7 @@ mod tests {
         let h = hit(&c, DVec3::new(0.2, -5.0, 0.3), DVec3::Y).unwrap();
         assert!((h.t - 5.0).abs() < 1e-12 && h.normal == -DVec3::Y && h.material == 3);
         // Cap uv like a disc in the x-z plane.
-        assert!((h.uv - DVec2::new(0.6, 0.65)).length() < 1e-12);
+        assert!((c.uv(&h) - DVec2::new(0.6, 0.65)).length() < 1e-12);
         // Down the axis from above: the apex, then the base.
         let mut xs = Vec::new();
         c.crossings(&Ray::new(DVec3::new(0.0, 5.0, 0.0), -DVec3::Y), &mut xs);
@@ -291,10 +312,10 @@ mod tests {
         // At y = 0 the radius is 0.75; +z side is u = 0, mid height v = 0.5.
         let h = hit(&c, DVec3::new(0.0, 0.0, 5.0), -DVec3::Z).unwrap();
         assert!((h.t - 4.25).abs() < 1e-12);
-        assert!((h.uv - DVec2::new(0.0, 0.5)).length() < 1e-12);
+        assert!((c.uv(&h) - DVec2::new(0.0, 0.5)).length() < 1e-12);
         // +x is a quarter turn.
         let h = hit(&c, DVec3::new(5.0, 0.25, 0.0), -DVec3::X).unwrap();
-        assert!((h.uv - DVec2::new(0.25, 0.75)).length() < 1e-12);
+        assert!((c.uv(&h) - DVec2::new(0.25, 0.75)).length() < 1e-12);
         // Open: straight down the axis passes through.
         assert!(hit(&c, DVec3::new(0.0, 5.0, 0.0), -DVec3::Y).is_none());
         // From inside the open frustum, the inside of the wall.

@@ -23,9 +23,14 @@
 //!   material.
 //! - A plane is a half-space (the solid side is behind its normal): it has
 //!   one crossing, and the line starts inside when that crossing leaves.
+//!
+//! Each crossing the result reports records which child it came from in
+//! [`Hit::path`] (one mixed-radix digit per level: `path · n + child`), so
+//! that texture coordinates, computed only for the hit that is shaded, are
+//! asked of the shape that made it.
 
 use super::{Hit, Shape};
-use crate::geometry::{Aabb, DVec3, Ray};
+use crate::geometry::{Aabb, DVec2, DVec3, Ray};
 use std::cell::RefCell;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -77,6 +82,9 @@ fn with_scratch<R>(f: impl FnOnce(&mut Scratch) -> R) -> R {
     POOL.with(|p| p.borrow_mut().push(s));
     r
 }
+
+/// The path of a hit nested deeper than [`Hit::path`] can record.
+const LOST: u64 = u64::MAX;
 
 /// Crossings this close in `t` (relative) are one event: coincident faces
 /// (A ∪ A, boxes sharing a face) must not open zero-width slivers.
@@ -239,7 +247,7 @@ impl Csg {
         ray: &Ray,
         span: (f64, f64),
         s: &mut Scratch,
-        mut emit: impl FnMut(&Hit) -> bool,
+        mut emit: impl FnMut(Hit) -> bool,
     ) {
         s.hits.clear();
         s.flips.clear();
@@ -280,10 +288,21 @@ impl Csg {
             let batch = &s.flips[begin..k];
             let agrees = |f: &&Flip| (s.hits[f.hit as usize].normal.dot(ray.dir) < 0.0) == now;
             let f = batch.iter().find(agrees).unwrap_or(&batch[0]);
-            if emit(&s.hits[f.hit as usize]) {
+            if emit(self.tagged(s.hits[f.hit as usize], f.child)) {
                 return;
             }
         }
+    }
+
+    /// The hit as the result reports it: `child`'s digit added to its path.
+    /// A path too deep for 64 bits becomes `LOST` (its (u, v) read as zero).
+    fn tagged(&self, mut h: Hit, child: u32) -> Hit {
+        h.path = h
+            .path
+            .checked_mul(self.children.len() as u64)
+            .and_then(|p| p.checked_add(child as u64))
+            .unwrap_or(LOST);
+        h
     }
 
     /// Whether the line can meet the result within (t_min, t_max) at all.
@@ -304,7 +323,7 @@ impl Shape for Csg {
                     return true;
                 }
                 if h.t > t_min {
-                    found = Some(*h);
+                    found = Some(h);
                     return true;
                 }
                 false
@@ -332,7 +351,7 @@ impl Shape for Csg {
         }
         with_scratch(|s| {
             self.sweep(ray, (f64::NEG_INFINITY, f64::INFINITY), s, |h| {
-                out.push(*h);
+                out.push(h);
                 false
             })
         });
@@ -353,6 +372,18 @@ impl Shape for Csg {
             CsgOp::Intersection => !self.children.is_empty() && inside.all(|x| x),
             CsgOp::Difference => inside.next() == Some(true) && !inside.any(|x| x),
         }
+    }
+
+    fn uv(&self, hit: &Hit) -> DVec2 {
+        let n = self.children.len() as u64;
+        if hit.path == LOST || n == 0 {
+            return DVec2::ZERO;
+        }
+        let inner = Hit {
+            path: hit.path / n,
+            ..*hit
+        };
+        self.children[(hit.path % n) as usize].uv(&inner)
     }
 }
 
@@ -680,6 +711,48 @@ mod tests {
             )
             .unwrap();
         assert_eq!(h.material, 2);
+    }
+
+    #[test]
+    fn uv_is_asked_of_the_shape_that_was_hit() {
+        // A bitten ball in a union with a moved cylinder: each hit's (u, v)
+        // must be what the leaf itself gives for that point.
+        let ball = Sphere::new(DVec3::ZERO, 1.0, 1);
+        let tube = Cylinder::new(DVec3::ZERO, 0.4, 2.0, 3, Some([4, 4]));
+        let moved = Transform::translate(DVec3::new(1.5, 0.0, 0.0));
+        let bitten = Csg::new(
+            CsgOp::Difference,
+            vec![
+                Box::new(ball.clone()),
+                cube(DVec3::splat(0.2), DVec3::splat(2.0), 2),
+            ],
+        );
+        let u = Transformed::new(
+            Box::new(Csg::new(
+                CsgOp::Union,
+                vec![
+                    Box::new(Transformed::new(Box::new(tube.clone()), moved)),
+                    Box::new(bitten),
+                ],
+            )),
+            Transform::rotate(DVec3::Y, 20.0).unwrap(),
+        );
+        let mut seen = [0; 5];
+        for r in testing::rays_towards(DVec3::new(0.7, 0.0, 0.0), 1.5, 400, 68) {
+            let Some(h) = u.intersect(&r, 1e-9, f64::INFINITY) else {
+                continue;
+            };
+            let leaf = Hit { path: 0, ..h };
+            let want = match h.material {
+                1 => ball.uv(&leaf),
+                3 | 4 => tube.uv(&leaf),
+                _ => h.uv,
+            };
+            assert_eq!(u.uv(&h), want, "{h:?}");
+            assert!(want.cmpge(DVec2::ZERO).all() && want.cmple(DVec2::ONE).all());
+            seen[h.material as usize] += 1;
+        }
+        assert!(seen[1] > 20 && seen[2] > 5 && seen[3] > 20, "{seen:?}");
     }
 
     /// Renders `objects` with a camera and a light at `eye`, looking along +x.

@@ -117,6 +117,7 @@ impl Cuboid {
             uv,
             local: p,
             material,
+            path: 0,
         }
     }
 }

@@ -13,7 +13,7 @@
 
 use super::cone::Frustum;
 use super::{Hit, Shape};
-use crate::geometry::{Aabb, DVec3, Ray};
+use crate::geometry::{Aabb, DVec2, DVec3, Ray};
 use crate::scene::MaterialId;
 
 #[derive(Clone, Debug)]
@@ -49,6 +49,9 @@ impl Shape for Cylinder {
     fn is_solid(&self) -> bool {
         self.frustum.caps.is_some()
     }
+    fn uv(&self, hit: &Hit) -> DVec2 {
+        self.frustum.uv(hit)
+    }
 }
 
 #[cfg(test)]
@@ -67,15 +70,15 @@ mod tests {
         let h = hit(&c, DVec3::new(0.0, 1.5, 5.0), -DVec3::Z).unwrap();
         assert!((h.t - 4.5).abs() < 1e-12 && h.normal == DVec3::Z && h.material == 1);
         // Side uv: +z is u = 0; y = 1.5 is three quarters up.
-        assert!((h.uv - DVec2::new(0.0, 0.75)).length() < 1e-12);
+        assert!((c.uv(&h) - DVec2::new(0.0, 0.75)).length() < 1e-12);
         let h = hit(&c, DVec3::new(-5.0, 0.0, 0.0), DVec3::X).unwrap();
-        assert!((h.uv.x - 0.75).abs() < 1e-12);
+        assert!((c.uv(&h).x - 0.75).abs() < 1e-12);
         let h = hit(&c, DVec3::new(0.25, 5.0, 0.0), -DVec3::Y).unwrap();
         assert!((h.t - 3.0).abs() < 1e-12 && h.normal == DVec3::Y && h.material == 2);
-        assert!((h.uv - DVec2::new(0.75, 0.5)).length() < 1e-12);
+        assert!((c.uv(&h) - DVec2::new(0.75, 0.5)).length() < 1e-12);
         let h = hit(&c, DVec3::new(0.0, -5.0, -0.25), DVec3::Y).unwrap();
         assert!((h.t - 5.0).abs() < 1e-12 && h.normal == -DVec3::Y && h.material == 3);
-        assert!((h.uv - DVec2::new(0.5, 0.25)).length() < 1e-12);
+        assert!((c.uv(&h) - DVec2::new(0.5, 0.25)).length() < 1e-12);
         // Non-unit direction: same t parameterisation.
         let h = hit(&c, DVec3::new(0.0, 1.0, 5.0), DVec3::new(0.0, 0.0, -4.0)).unwrap();
         assert!((h.t - 1.125).abs() < 1e-12);

@@ -41,6 +41,7 @@ impl Disc {
             uv: DVec2::new((q.x + r) / (2.0 * r), (q.y + r) / (2.0 * r)),
             local: p,
             material: self.material,
+            path: 0,
         })
     }
 }

@@ -321,6 +321,7 @@ impl Mesh {
             uv,
             local,
             material: self.material,
+            path: 0,
         }
     }
 }

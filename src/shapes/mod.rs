@@ -37,7 +37,7 @@ use crate::geometry::{Aabb, DVec2, DVec3, Ray};
 use crate::scene::MaterialId;
 
 /// Where a ray meets a surface.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Hit {
     /// Ray parameter; the same in world and object space.
     pub t: f64,
@@ -46,12 +46,22 @@ pub struct Hit {
     /// Not necessarily unit length, and NOT turned towards the ray: the
     /// renderer does that. CSG relies on it to tell entering from leaving.
     pub normal: DVec3,
-    /// Texture coordinates as listed in conventions.md.
+    /// Texture coordinates as listed in conventions.md, where they cost
+    /// next to nothing (planes, discs, boxes, triangles, meshes, cylinder
+    /// and cone caps). Shapes that need trigonometry for them (sphere,
+    /// cone and cylinder sides, torus) leave them zero here and give them
+    /// through [`Shape::uv`], which the renderer asks only for the hit it
+    /// shades and only when its texture reads (u, v): CSG finds many
+    /// crossings per ray and shades one.
     pub uv: DVec2,
     /// The hit point in the shape's own space (before any transform), for
     /// solid textures that must move with the object.
     pub local: DVec3,
     pub material: MaterialId,
+    /// Which child the hit came from at each enclosing CSG operation, so
+    /// that [`Shape::uv`] can ask the shape that made the hit (see
+    /// [`Csg`]); 0 outside CSG.
+    pub path: u64,
 }
 
 /// A surface the renderer can trace.
@@ -83,6 +93,13 @@ pub trait Shape: Send + Sync + std::fmt::Debug {
     /// needs it, so the default says no.
     fn encloses(&self, _p: DVec3) -> bool {
         false
+    }
+
+    /// The texture coordinates of a hit this shape returned. The default is
+    /// what the shape filled in as it went; shapes whose (u, v) need
+    /// trigonometry compute them here instead, once per shaded hit.
+    fn uv(&self, hit: &Hit) -> DVec2 {
+        hit.uv
     }
 }
 

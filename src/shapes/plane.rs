@@ -46,6 +46,7 @@ impl Plane {
             uv: DVec2::new(p.dot(self.u_axis), p.dot(self.v_axis)),
             local: p,
             material: self.material,
+            path: 0,
         }
     }
 

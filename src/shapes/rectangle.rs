@@ -65,6 +65,7 @@ impl Rectangle {
             uv: DVec2::new(u, v),
             local: ray.at(t),
             material: self.material,
+            path: 0,
         })
     }
 }

@@ -33,9 +33,10 @@ impl Sphere {
         Hit {
             t,
             normal: n,
-            uv: sphere_uv(n),
+            uv: DVec2::ZERO,
             local: p,
             material: self.material,
+            path: 0,
         }
     }
 
@@ -81,6 +82,10 @@ impl Shape for Sphere {
 
     fn is_solid(&self) -> bool {
         true
+    }
+
+    fn uv(&self, hit: &Hit) -> DVec2 {
+        sphere_uv((hit.local - self.centre) / self.radius)
     }
 }
 

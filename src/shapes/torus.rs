@@ -79,22 +79,13 @@ impl Torus {
         let p = ray.at(t);
         let s = p.length_squared() + self.major * self.major - self.minor * self.minor;
         let k = 2.0 * self.major * self.major;
-        let normal = DVec3::new(p.x * (s - k), p.y * s, p.z * (s - k));
-        let rho = (p.x * p.x + p.z * p.z).sqrt();
-        let wrap = |a: f64| {
-            let u = a / (2.0 * PI);
-            if u < 0.0 {
-                (u + 1.0).min(1.0 - f64::EPSILON)
-            } else {
-                u
-            }
-        };
         Hit {
             t,
-            normal,
-            uv: DVec2::new(wrap(p.x.atan2(p.z)), wrap(p.y.atan2(rho - self.major))),
+            normal: DVec3::new(p.x * (s - k), p.y * s, p.z * (s - k)),
+            uv: DVec2::ZERO,
             local: p,
             material: self.material,
+            path: 0,
         }
     }
 }
@@ -138,6 +129,20 @@ impl Shape for Torus {
     fn is_solid(&self) -> bool {
         true
     }
+
+    fn uv(&self, hit: &Hit) -> DVec2 {
+        let p = hit.local;
+        let rho = (p.x * p.x + p.z * p.z).sqrt();
+        let wrap = |a: f64| {
+            let u = a / (2.0 * PI);
+            if u < 0.0 {
+                (u + 1.0).min(1.0 - f64::EPSILON)
+            } else {
+                u
+            }
+        };
+        DVec2::new(wrap(p.x.atan2(p.z)), wrap(p.y.atan2(rho - self.major)))
+    }
 }
 
 #[cfg(test)]
@@ -153,7 +158,7 @@ mod tests {
         let h = t.intersect(&r, 1e-9, f64::INFINITY).unwrap();
         assert!((h.t - 4.5).abs() < 1e-9);
         assert!((h.normal.normalize() - DVec3::Y).length() < 1e-9);
-        assert!((h.uv.y - 0.25).abs() < 1e-9);
+        assert!((t.uv(&h).y - 0.25).abs() < 1e-9);
         // Through the hole: nothing.
         let r = Ray::new(DVec3::new(0.0, 5.0, 0.0), -DVec3::Y);
         assert!(t.intersect(&r, 1e-9, f64::INFINITY).is_none());

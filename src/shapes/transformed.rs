@@ -66,6 +66,11 @@ impl Shape for Transformed {
     fn encloses(&self, p: crate::geometry::DVec3) -> bool {
         self.inner.encloses(self.transform.inverse_point(p))
     }
+
+    /// `local` is already in the inner shape's space.
+    fn uv(&self, hit: &Hit) -> crate::geometry::DVec2 {
+        self.inner.uv(hit)
+    }
 }
 
 #[cfg(test)]

@@ -58,6 +58,7 @@ impl Triangle {
             uv: DVec2::new(u, v),
             local: ray.at(t),
             material: self.material,
+            path: 0,
         })
     }
 }
