@@ -454,6 +454,8 @@ fn the_language_reference_examples_work() {
         .split("```")
         .skip(1)
         .step_by(2)
+        // Untagged or `rt` blocks are scenes; `sh` and others are not.
+        .filter(|b| matches!(b.split('\n').next().map(str::trim), Some("" | "rt")))
         .map(|b| b.trim_start_matches(|c: char| c != '\n'))
         .filter(|b| !b.contains('×'))
         .collect();
