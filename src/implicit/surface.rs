@@ -139,6 +139,16 @@ impl ImplicitSurface {
         }
     }
 
+    /// Whether `p` lies inside the solid: where the written equation is
+    /// negative (its roots on their principal branch; where it is undefined,
+    /// outside). Without roots that is the polynomial's sign.
+    fn inside(&self, p: DVec3) -> bool {
+        match &self.equation.branch {
+            None => self.equation.value(p) < 0.0,
+            Some(tree) => super::expand::eval(tree, p).is_some_and(|d| d.v < 0.0),
+        }
+    }
+
     fn normal_at(&self, p: DVec3, dir: DVec3) -> DVec3 {
         let mut g = self.equation.gradient(p);
         if let Some(tree) = &self.equation.branch {
@@ -191,13 +201,44 @@ impl Shape for ImplicitSurface {
         any
     }
 
+    /// For CSG the crossings must alternate, entering and leaving. A root
+    /// alone does not say which it is: a grazing ray gives a double root
+    /// (found once, twice or not at all) where the line only touches the
+    /// surface, and at singular points the gradient says nothing. So the
+    /// side of the surface is read off the equation's sign between roots:
+    /// a root is a crossing where the side changes, and its normal is turned
+    /// to agree (against the ray when entering). A bounded surface's line
+    /// starts and ends outside its box.
     fn crossings(&self, ray: &Ray, out: &mut Vec<Hit>) {
-        let mut ts = Vec::new();
+        let mut ts: Vec<(f64, DVec3)> = Vec::new();
         self.roots(ray, f64::NEG_INFINITY, f64::INFINITY, |t, p| {
             ts.push((t, p));
             false
         });
-        out.extend(ts.into_iter().map(|(t, p)| self.hit_at(ray, t, p)));
+        let Some(&(first, _)) = ts.first() else {
+            return;
+        };
+        let bounded = self.bounds.is_finite();
+        let far = |t: f64| self.inside(ray.at(t));
+        let mut before = !bounded && far(first - (1.0 + first.abs()));
+        for (k, &(t, p)) in ts.iter().enumerate() {
+            let after = match ts.get(k + 1) {
+                Some(&(next, _)) => self.inside(ray.at(0.5 * (t + next))),
+                None => !bounded && far(t + 1.0 + t.abs()),
+            };
+            if after != before {
+                let mut h = self.hit_at(ray, t, p);
+                if (h.normal.dot(ray.dir) < 0.0) != after {
+                    h.normal = -h.normal;
+                }
+                out.push(h);
+            }
+            before = after;
+        }
+    }
+
+    fn encloses(&self, p: DVec3) -> bool {
+        self.bounds.contains(p) && self.inside(p)
     }
 
     fn bounds(&self) -> Aabb {

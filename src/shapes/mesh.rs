@@ -293,6 +293,41 @@ fn is_closed(triangles: &[[u32; 3]]) -> bool {
     true
 }
 
+/// A closed mesh's crossings for CSG, which must alternate entering and
+/// leaving. Each triangle's winding tells the way (its geometric normal;
+/// a smooth normal can disagree near a silhouette), a mesh wound inwards
+/// is recognised by its first crossing (a closed surface is entered
+/// first), and a triangle that would not change the side (the second of
+/// two sharing the edge or vertex the ray passes through) is skipped.
+/// Reported normals are turned to agree.
+fn solid_crossings(
+    d: &MeshData,
+    ray: &Ray,
+    found: &[(f64, u32, f64, f64)],
+    hit: impl Fn(f64, u32, f64, f64) -> Hit,
+    out: &mut Vec<Hit>,
+) {
+    let mut inward = None;
+    let mut inside = false;
+    for &(t, tri, b1, b2) in found {
+        let pre = &d.pre[tri as usize];
+        let facing = pre.e1.cross(pre.e2).dot(ray.dir);
+        if facing == 0.0 {
+            continue;
+        }
+        let entering = (facing < 0.0) != *inward.get_or_insert(facing > 0.0);
+        if entering == inside {
+            continue;
+        }
+        inside = entering;
+        let mut h = hit(t, tri, b1, b2);
+        if (h.normal.dot(ray.dir) < 0.0) != entering {
+            h.normal = -h.normal;
+        }
+        out.push(h);
+    }
+}
+
 #[derive(Debug)]
 pub struct Mesh {
     data: Arc<MeshData>,
@@ -351,6 +386,16 @@ impl Shape for Mesh {
         // A triangle in several leaves is met once per leaf.
         found.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
         found.dedup_by_key(|h| h.1);
+        if d.closed {
+            solid_crossings(
+                d,
+                ray,
+                &found,
+                |t, tri, b1, b2| self.hit(ray, t, tri, b1, b2),
+                out,
+            );
+            return;
+        }
         let start = out.len();
         for (t, tri, b1, b2) in found {
             let h = self.hit(ray, t, tri, b1, b2);

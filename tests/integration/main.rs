@@ -1,6 +1,7 @@
 //! End-to-end tests: one binary (link once), one module per area.
 
 mod cli;
+mod csg;
 mod diagnostics;
 mod examples;
 mod golden;
