@@ -1,5 +1,9 @@
 //! Reading PLY files (Stanford polygon format) into plain arrays, with
-//! `ply-rs-bw` doing the byte-level work.
+//! `ply-rs-bw` as the reader of record: it reads every header, and the
+//! element data of any file the small fast path in `fast` declines (which
+//! includes every malformed one, so its diagnostics are the crate's). The
+//! fast path reads plain ASCII numbers and binary records directly, about
+//! three times cheaper than the crate's per-token grammar on the bunny.
 //!
 //! What is taken from a file: the `vertex` element's `x y z` (any scalar
 //! type), its normals `nx ny nz` and texture coordinates (`u v`, `s t`,
@@ -199,7 +203,7 @@ pub fn parse(bytes: &[u8]) -> Result<PlyMesh, PlyError> {
     parse_with(bytes, true)
 }
 
-/// `fast` lets the bulk data bypass the crate's grammar (see [`fast`]);
+/// `fast` lets the bulk data bypass the crate's grammar (see `fast`);
 /// the tests compare both ways.
 fn parse_with(bytes: &[u8], fast: bool) -> Result<PlyMesh, PlyError> {
     if bytes.is_empty() {

@@ -84,3 +84,74 @@ fn placed_instances_match_a_moved_sphere() {
         }
     }
 }
+
+/// The same triangles, once as a `mesh` and once as `triangle` objects,
+/// draw the same picture (flat shading: both use each face's own normal).
+#[test]
+fn a_mesh_and_its_triangles_give_the_same_picture() {
+    let (p, t) = icosphere(2);
+    // Squash and tilt it so that no face is axis-aligned by accident.
+    let p: Vec<DVec3> = p
+        .iter()
+        .map(|v| DVec3::new(v.x * 1.3 + 0.2 * v.y, v.y * 0.8, v.z) + DVec3::new(0.0, 1.0, 0.0))
+        .collect();
+    let faces: Vec<Vec<u32>> = t.iter().map(|f| f.to_vec()).collect();
+    let head = "camera { position <0.5, 2, 5>  look_at <0, 1, 0>  fov 40 }\n\
+                render { width 96  height 96  max_depth 2 }\n\
+                light { position <4, 6, 5> }\n\
+                material m { colour rgb(0.8, 0.5, 0.3)  reflect 0.2 }\n\
+                plane { normal <0, 1, 0>  material { colour rgb(0.6, 0.6, 0.6)  reflect 0.3 } }\n";
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("shape.ply"), write_ascii(&p, &faces)).unwrap();
+    let mesh_scene = dir.path().join("mesh.rt");
+    std::fs::write(
+        &mesh_scene,
+        format!("{head}mesh \"shape.ply\" {{ flat  material m }}\n"),
+    )
+    .unwrap();
+    let mut tris = String::from(head);
+    for f in &t {
+        let [a, b, c] = f.map(|k| p[k as usize]);
+        let v = |q: DVec3| format!("<{:?}, {:?}, {:?}>", q.x, q.y, q.z);
+        tris += &format!(
+            "triangle {{ a {}  b {}  c {}  material m }}\n",
+            v(a),
+            v(b),
+            v(c)
+        );
+    }
+    let tri_scene = dir.path().join("triangles.rt");
+    std::fs::write(&tri_scene, tris).unwrap();
+
+    let a = super::support::render_path(&mesh_scene, None, 2);
+    let b = super::support::render_path(&tri_scene, None, 2);
+    let floor_only = super::support::render_path(
+        &{
+            let f = dir.path().join("floor.rt");
+            std::fs::write(&f, head).unwrap();
+            f
+        },
+        None,
+        2,
+    );
+    // The shape covers a good part of the picture...
+    let covered = a
+        .pixels
+        .iter()
+        .zip(&floor_only.pixels)
+        .filter(|(p, q)| p != q)
+        .count();
+    assert!(
+        covered > a.pixels.len() / 10,
+        "only {covered} pixels show it"
+    );
+    // ...and both ways agree everywhere but, at most, a few pixels whose ray
+    // grazes an edge shared by two faces (either face may then be taken).
+    let differ = a
+        .pixels
+        .iter()
+        .zip(&b.pixels)
+        .filter(|(p, q)| (0..3).any(|i| (p[i] - q[i]).abs() > 1e-4))
+        .count();
+    assert!(differ <= a.pixels.len() / 500, "{differ} pixels differ");
+}
