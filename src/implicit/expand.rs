@@ -63,6 +63,7 @@ pub fn expand(
     parsed: &Parsed,
     constant: &dyn Fn(&str) -> Option<f64>,
 ) -> Result<Expanded, Vec<EquationError>> {
+    super::poly::reset_work_budget();
     let mut errors = Vec::new();
     let mut nroots = 0;
     for side in [Some(&parsed.lhs), parsed.rhs.as_ref()]

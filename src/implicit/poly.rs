@@ -10,6 +10,36 @@ use std::collections::BTreeMap;
 pub const INTERNAL_DEGREE: u32 = 400;
 const MAX_WORK: usize = 8_000_000;
 
+/// The most term products one whole compile may do: the per-product cap
+/// alone let nested roots run a determinant of thousands of products, each
+/// under the cap, for minutes (a fuzz find). The largest equations the
+/// examples and tests use need well under it, and (x+y+z)^40, the
+/// densest polynomial of the largest degree, fits.
+pub const MAX_TOTAL_WORK: u64 = 3_000_000;
+
+thread_local! {
+    static WORK_LEFT: std::cell::Cell<u64> = const { std::cell::Cell::new(MAX_TOTAL_WORK) };
+}
+
+/// Restores the whole budget; called at the start of each compile.
+pub fn reset_work_budget() {
+    WORK_LEFT.with(|w| w.set(MAX_TOTAL_WORK));
+}
+
+/// Takes `n` term products from the budget, or says the expansion is too big.
+fn charge(n: usize) -> Result<(), String> {
+    WORK_LEFT.with(|w| {
+        let left = w.get();
+        if n as u64 > left {
+            w.set(0);
+            Err(too_big())
+        } else {
+            w.set(left - n as u64);
+            Ok(())
+        }
+    })
+}
+
 #[derive(Clone, Debug, PartialEq)]
 pub struct Poly {
     pub nvars: usize,
@@ -108,9 +138,11 @@ impl Poly {
         if self.degree() + o.degree() > INTERNAL_DEGREE {
             return Err(too_big());
         }
-        if self.terms.len().saturating_mul(o.terms.len()) > MAX_WORK {
+        let work = self.terms.len().saturating_mul(o.terms.len());
+        if work > MAX_WORK {
             return Err(too_big());
         }
+        charge(work)?;
         let mut r = Poly::zero(self.nvars);
         for (ea, ca) in &self.terms {
             for (eb, cb) in &o.terms {

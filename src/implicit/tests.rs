@@ -289,3 +289,16 @@ fn diagnostic_snapshots() {
         insta::assert_snapshot!(name, render_error(text));
     }
 }
+
+/// Fuzz find: nested roots made the elimination run thousands of products,
+/// each under the per-product cap, for minutes. Now the whole compile has
+/// one budget and this is refused at once.
+#[test]
+fn nested_roots_cannot_run_for_minutes() {
+    let s = "(x^3 +(((x - .1 r^2)_2 - 1.5)^2  +y)_2 - 2 z^2)333333 * (y^2 + (((x - .1 r^2)_2 - 1.5)^2  +y)_2 - 2 z^2)333333 * (y^2 + -1.0)_1 * y^3 + 1 * (y^2 + -1.0)^0 * y^5 + 6.25 * (z^2 + -1.0)^2(z^2 + -1.0)^0 * z^5";
+    let e = first_error(s);
+    assert!(e.message.contains("too many terms"), "{}", e.message);
+    // The budget is per compile: a normal equation still compiles after.
+    assert!(compile("x^2 + y^2 + z^2 - 1").is_ok());
+    assert_eq!(compile("(x + y + z)^40 - 1").unwrap().degree(), 40);
+}

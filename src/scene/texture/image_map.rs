@@ -57,6 +57,11 @@ impl ImageTexture {
     /// Reads a PNG or JPEG (any format the `image` crate was built with),
     /// decoding its display-encoded values with the scene's transfer curve.
     pub fn load(path: &Path, transfer: Transfer, mapping: UvMapping) -> Result<Self, ImageError> {
+        // A device or pipe would be read forever; a folder gives a poor message.
+        let meta = std::fs::metadata(path).map_err(|e| ImageError::Io(e.to_string()))?;
+        if !meta.is_file() {
+            return Err(ImageError::Io("it is not a regular file".into()));
+        }
         let reader = image::ImageReader::open(path)
             .map_err(|e| ImageError::Io(e.to_string()))?
             .with_guessed_format()
@@ -64,6 +69,11 @@ impl ImageTexture {
         let (width, height) = reader
             .into_dimensions()
             .map_err(|e| ImageError::Decode(e.to_string()))?;
+        if width == 0 || height == 0 {
+            return Err(ImageError::Decode(format!(
+                "the image is {width}x{height}: it has no pixels"
+            )));
+        }
         if width > MAX_TEXTURE_SIDE || height > MAX_TEXTURE_SIDE {
             return Err(ImageError::TooLarge {
                 width,
@@ -111,7 +121,8 @@ impl ImageTexture {
             uv.y = 1.0 - uv.y;
         }
         let uv = uv * m.scale + m.offset;
-        if !uv.is_finite() {
+        // An empty image (only `from_rgb8` can make one) has nothing to show.
+        if !uv.is_finite() || self.pixels.is_empty() {
             return Colour::ZERO;
         }
         // Image x grows with u; image rows grow downwards while v grows up.
@@ -197,5 +208,21 @@ mod tests {
         two_by_two().save(&good).unwrap();
         let t = ImageTexture::load(&good, Transfer::Linear, UvMapping::default()).unwrap();
         assert_eq!((t.width, t.height), (2, 2));
+    }
+
+    /// Fuzz find: a PPM of width 0 decoded, then sampling divided by zero.
+    #[test]
+    fn an_image_without_pixels_is_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        let empty = dir.path().join("empty.ppm");
+        std::fs::write(&empty, b"P35\n0 1\t\xc4\xff+ 3050\n").unwrap();
+        let r = ImageTexture::load(&empty, Transfer::Srgb, UvMapping::default());
+        assert!(matches!(r, Err(ImageError::Decode(m)) if m.contains("no pixels")));
+        let none = ImageTexture::from_rgb8(
+            &image::RgbImage::new(0, 3),
+            Transfer::Srgb,
+            UvMapping::default(),
+        );
+        assert_eq!(none.sample(DVec2::new(0.5, 0.5)), Colour::ZERO);
     }
 }
