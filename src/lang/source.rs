@@ -102,19 +102,6 @@ pub fn floor_char_boundary(text: &str, mut i: usize) -> usize {
     i
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn lines_and_columns_are_one_based() {
-        let t = "ab\ncd\n€x";
-        assert_eq!(line_col(t, 0), (1, 1));
-        assert_eq!(line_col(t, 4), (2, 2));
-        assert_eq!(line_col(t, 9), (3, 2));
-    }
-}
-
 /// Largest scene or include file read (far above any hand-written scene).
 pub const MAX_SCENE_BYTES: u64 = 64 << 20;
 
@@ -156,4 +143,17 @@ pub fn read_text(path: &Path, limit: u64) -> Result<String, String> {
             e.utf8_error().valid_up_to()
         )
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lines_and_columns_are_one_based() {
+        let t = "ab\ncd\n€x";
+        assert_eq!(line_col(t, 0), (1, 1));
+        assert_eq!(line_col(t, 4), (2, 2));
+        assert_eq!(line_col(t, 9), (3, 2));
+    }
 }
