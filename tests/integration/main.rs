@@ -3,6 +3,7 @@
 mod cli;
 mod diagnostics;
 mod examples;
+mod hostile;
 mod lang;
 mod mesh;
 mod render;
