@@ -154,7 +154,7 @@ fn eliminate(e: &Poly, var: usize, n: u32, c: &Poly) -> Result<Poly, String> {
         rest[var] = 0;
         let mut mono = Poly::zero(e.nvars);
         mono.terms.insert(rest, *coef);
-        parts[r] = parts[r].add(&mono.mul(&c_powers[q])?);
+        parts[r].add_in_place(mono.mul(&c_powers[q])?);
     }
     if parts[1..].iter().all(|p| p.terms.is_empty()) {
         return Ok(parts.swap_remove(0));

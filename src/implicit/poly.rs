@@ -114,6 +114,14 @@ impl Poly {
         }
     }
 
+    /// `self += o` without copying `self`: sums built term by term stay
+    /// linear in their size (a fuzz find: copying made one quadratic).
+    pub fn add_in_place(&mut self, o: Poly) {
+        for (e, c) in o.terms {
+            self.add_term(e, c);
+        }
+    }
+
     pub fn add(&self, o: &Poly) -> Poly {
         let mut r = self.clone();
         for (e, c) in &o.terms {
@@ -244,7 +252,10 @@ pub fn determinant(m: &[Vec<Poly>]) -> Result<Poly, String> {
             }
             let next = mask | (1 << col);
             dp[next] = Some(match dp[next].take() {
-                Some(p) => p.add(&term),
+                Some(mut p) => {
+                    p.add_in_place(term);
+                    p
+                }
                 None => term,
             });
         }

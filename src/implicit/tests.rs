@@ -302,3 +302,11 @@ fn nested_roots_cannot_run_for_minutes() {
     assert!(compile("x^2 + y^2 + z^2 - 1").is_ok());
     assert_eq!(compile("(x + y + z)^40 - 1").unwrap().degree(), 40);
 }
+
+/// Fuzz find: an equation with many terms and a root made the elimination
+/// copy a growing sum once per term (quadratic, uncounted by the budget).
+#[test]
+fn long_sums_around_roots_stay_quick() {
+    let s = "-x-x (y)_2^2*z  (x^3 (y)_2^2*z  (x^3 + y)_2 - 2 (y)_2^2*z + y)_2 - 2 (y)_2^2*z  (x^2 + 4/4 y^2 +4(x^3 + y)_2 - 2 (y)_2^2*z + y)_2 - 2 (y)_2^2*z  (x^2 + 4/4 y^2 +4 z^2 -  z^2 - 1)^3 8/- 9--0 y_2 z^3";
+    let _ = compile(s);
+}

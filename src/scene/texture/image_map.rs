@@ -89,8 +89,14 @@ impl ImageTexture {
         limits.max_image_width = Some(MAX_TEXTURE_SIDE);
         limits.max_image_height = Some(MAX_TEXTURE_SIDE);
         reader.limits(limits);
-        let img = reader
-            .decode()
+        // The decoders are third-party code fed user bytes, and one has
+        // panicked on a mangled palette (a fuzz find): a panic would take the
+        // whole render down, so it is caught and reported as a bad file.
+        let decoded = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| reader.decode()))
+            .map_err(|_| {
+                ImageError::Decode("the file is malformed (the decoder gave up)".into())
+            })?;
+        let img = decoded
             .map_err(|e| ImageError::Decode(e.to_string()))?
             .to_rgb8();
         Ok(Self::from_rgb8(&img, transfer, mapping))
@@ -224,5 +230,20 @@ mod tests {
             UvMapping::default(),
         );
         assert_eq!(none.sample(DVec2::new(0.5, 0.5)), Colour::ZERO);
+    }
+
+    /// Fuzz find: a PNG whose palette holds one byte made the png crate
+    /// panic while decoding.
+    #[test]
+    fn a_decoder_panic_is_a_decode_error() {
+        let dir = tempfile::tempdir().unwrap();
+        let bad = dir.path().join("bad.png");
+        std::fs::write(
+            &bad,
+            include_bytes!("../../../tests/data/png_short_palette.png"),
+        )
+        .unwrap();
+        let r = ImageTexture::load(&bad, Transfer::Srgb, UvMapping::default());
+        assert!(matches!(r, Err(ImageError::Decode(_))));
     }
 }
