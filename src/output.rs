@@ -8,7 +8,27 @@ use crate::render::Film;
 use crate::scene::Transfer;
 use miette::Diagnostic;
 use std::path::{Path, PathBuf};
+use std::sync::Mutex;
 use thiserror::Error;
+
+/// The temporary file being written, if any, for [`remove_pending`] to
+/// delete when the program is interrupted mid-write.
+static PENDING: Mutex<Option<PathBuf>> = Mutex::new(None);
+
+fn set_pending(p: Option<PathBuf>) {
+    // A poisoned lock only means a panic elsewhere; the path is still good.
+    *PENDING.lock().unwrap_or_else(|e| e.into_inner()) = p;
+}
+
+/// Deletes the temporary file of a write in progress. The binary's Ctrl-C
+/// and SIGTERM handler calls it before exiting, so an interrupted write
+/// leaves neither a partial image nor a stray temporary; the target is
+/// untouched because the rename had not happened.
+pub fn remove_pending() {
+    if let Some(p) = PENDING.lock().unwrap_or_else(|e| e.into_inner()).take() {
+        let _ = std::fs::remove_file(p);
+    }
+}
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Format {
@@ -113,6 +133,7 @@ pub fn write(
         name.to_string_lossy(),
         std::process::id()
     ));
+    set_pending(Some(tmp.clone()));
     let result = (|| {
         let file = std::fs::File::create(&tmp).map_err(|e| err(e.to_string()))?;
         let mut out = std::io::BufWriter::new(file);
@@ -128,6 +149,7 @@ pub fn write(
     if result.is_err() {
         let _ = std::fs::remove_file(&tmp);
     }
+    set_pending(None);
     result
 }
 
@@ -159,6 +181,18 @@ mod tests {
         let img = image::open(dir.path().join("out.png")).unwrap().to_rgb8();
         assert_eq!(img.get_pixel(0, 0).0, [255, 0, 0]);
         assert_eq!(img.get_pixel(1, 0).0[2], 255);
+    }
+
+    #[test]
+    fn an_interrupted_write_leaves_no_temporary() {
+        let dir = tempfile::tempdir().unwrap();
+        let tmp = dir.path().join(".out.png.1.tmp");
+        std::fs::write(&tmp, b"half an image").unwrap();
+        set_pending(Some(tmp.clone()));
+        remove_pending();
+        assert!(!tmp.exists());
+        // Nothing pending: nothing to do, and no error.
+        remove_pending();
     }
 
     #[test]

@@ -63,6 +63,7 @@ pub fn expand(
     parsed: &Parsed,
     constant: &dyn Fn(&str) -> Option<f64>,
 ) -> Result<Expanded, Vec<EquationError>> {
+    super::poly::reset_work_budget();
     let mut errors = Vec::new();
     let mut nroots = 0;
     for side in [Some(&parsed.lhs), parsed.rhs.as_ref()]
@@ -153,7 +154,7 @@ fn eliminate(e: &Poly, var: usize, n: u32, c: &Poly) -> Result<Poly, String> {
         rest[var] = 0;
         let mut mono = Poly::zero(e.nvars);
         mono.terms.insert(rest, *coef);
-        parts[r] = parts[r].add(&mono.mul(&c_powers[q])?);
+        parts[r].add_in_place(mono.mul(&c_powers[q])?);
     }
     if parts[1..].iter().all(|p| p.terms.is_empty()) {
         return Ok(parts.swap_remove(0));

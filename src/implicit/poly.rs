@@ -10,6 +10,36 @@ use std::collections::BTreeMap;
 pub const INTERNAL_DEGREE: u32 = 400;
 const MAX_WORK: usize = 8_000_000;
 
+/// The most term products one whole compile may do: the per-product cap
+/// alone let nested roots run a determinant of thousands of products, each
+/// under the cap, for minutes (a fuzz find). The largest equations the
+/// examples and tests use need well under it, and (x+y+z)^40, the
+/// densest polynomial of the largest degree, fits.
+pub const MAX_TOTAL_WORK: u64 = 3_000_000;
+
+thread_local! {
+    static WORK_LEFT: std::cell::Cell<u64> = const { std::cell::Cell::new(MAX_TOTAL_WORK) };
+}
+
+/// Restores the whole budget; called at the start of each compile.
+pub fn reset_work_budget() {
+    WORK_LEFT.with(|w| w.set(MAX_TOTAL_WORK));
+}
+
+/// Takes `n` term products from the budget, or says the expansion is too big.
+fn charge(n: usize) -> Result<(), String> {
+    WORK_LEFT.with(|w| {
+        let left = w.get();
+        if n as u64 > left {
+            w.set(0);
+            Err(too_big())
+        } else {
+            w.set(left - n as u64);
+            Ok(())
+        }
+    })
+}
+
 #[derive(Clone, Debug, PartialEq)]
 pub struct Poly {
     pub nvars: usize,
@@ -84,6 +114,14 @@ impl Poly {
         }
     }
 
+    /// `self += o` without copying `self`: sums built term by term stay
+    /// linear in their size (a fuzz find: copying made one quadratic).
+    pub fn add_in_place(&mut self, o: Poly) {
+        for (e, c) in o.terms {
+            self.add_term(e, c);
+        }
+    }
+
     pub fn add(&self, o: &Poly) -> Poly {
         let mut r = self.clone();
         for (e, c) in &o.terms {
@@ -108,9 +146,11 @@ impl Poly {
         if self.degree() + o.degree() > INTERNAL_DEGREE {
             return Err(too_big());
         }
-        if self.terms.len().saturating_mul(o.terms.len()) > MAX_WORK {
+        let work = self.terms.len().saturating_mul(o.terms.len());
+        if work > MAX_WORK {
             return Err(too_big());
         }
+        charge(work)?;
         let mut r = Poly::zero(self.nvars);
         for (ea, ca) in &self.terms {
             for (eb, cb) in &o.terms {
@@ -212,7 +252,10 @@ pub fn determinant(m: &[Vec<Poly>]) -> Result<Poly, String> {
             }
             let next = mask | (1 << col);
             dp[next] = Some(match dp[next].take() {
-                Some(p) => p.add(&term),
+                Some(mut p) => {
+                    p.add_in_place(term);
+                    p
+                }
                 None => term,
             });
         }

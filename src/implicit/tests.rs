@@ -289,3 +289,24 @@ fn diagnostic_snapshots() {
         insta::assert_snapshot!(name, render_error(text));
     }
 }
+
+/// Fuzz find: nested roots made the elimination run thousands of products,
+/// each under the per-product cap, for minutes. Now the whole compile has
+/// one budget and this is refused at once.
+#[test]
+fn nested_roots_cannot_run_for_minutes() {
+    let s = "(x^3 +(((x - .1 r^2)_2 - 1.5)^2  +y)_2 - 2 z^2)333333 * (y^2 + (((x - .1 r^2)_2 - 1.5)^2  +y)_2 - 2 z^2)333333 * (y^2 + -1.0)_1 * y^3 + 1 * (y^2 + -1.0)^0 * y^5 + 6.25 * (z^2 + -1.0)^2(z^2 + -1.0)^0 * z^5";
+    let e = first_error(s);
+    assert!(e.message.contains("too many terms"), "{}", e.message);
+    // The budget is per compile: a normal equation still compiles after.
+    assert!(compile("x^2 + y^2 + z^2 - 1").is_ok());
+    assert_eq!(compile("(x + y + z)^40 - 1").unwrap().degree(), 40);
+}
+
+/// Fuzz find: an equation with many terms and a root made the elimination
+/// copy a growing sum once per term (quadratic, uncounted by the budget).
+#[test]
+fn long_sums_around_roots_stay_quick() {
+    let s = "-x-x (y)_2^2*z  (x^3 (y)_2^2*z  (x^3 + y)_2 - 2 (y)_2^2*z + y)_2 - 2 (y)_2^2*z  (x^2 + 4/4 y^2 +4(x^3 + y)_2 - 2 (y)_2^2*z + y)_2 - 2 (y)_2^2*z  (x^2 + 4/4 y^2 +4 z^2 -  z^2 - 1)^3 8/- 9--0 y_2 z^3";
+    let _ = compile(s);
+}

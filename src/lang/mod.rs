@@ -42,7 +42,7 @@ impl Program {
 /// Reads and parses a scene file and everything it includes. Every syntax
 /// error of every file is reported together.
 pub fn load(path: &Path) -> Result<Program, Problems> {
-    let text = std::fs::read_to_string(path)
+    let text = source::read_text(path, source::MAX_SCENE_BYTES)
         .map_err(|e| Problems::plain(format!("cannot read {}: {e}", path.display())))?;
     load_text(path, text)
 }
@@ -161,12 +161,11 @@ impl Loader {
             );
             return Vec::new();
         }
-        let text = match std::fs::read_to_string(&canonical) {
+        let text = match source::read_text(&canonical, source::MAX_SCENE_BYTES) {
             Ok(t) => t,
             Err(e) => {
                 self.errors.push(
-                    Error::new(string, format!("cannot read the included file `{rel}`"))
-                        .label(e.to_string()),
+                    Error::new(string, format!("cannot read the included file `{rel}`")).label(e),
                 );
                 return Vec::new();
             }

@@ -102,6 +102,49 @@ pub fn floor_char_boundary(text: &str, mut i: usize) -> usize {
     i
 }
 
+/// Largest scene or include file read (far above any hand-written scene).
+pub const MAX_SCENE_BYTES: u64 = 64 << 20;
+
+/// Reads a file the user named, refusing what is not a regular file (a
+/// folder, `/dev/zero`, a FIFO or a terminal would fail, never end, or
+/// block) and anything over `limit` bytes, before reading it whole. The
+/// error is a sentence for a diagnostic.
+pub fn read_bounded(path: &Path, limit: u64) -> Result<Vec<u8>, String> {
+    use std::io::Read;
+    let meta = std::fs::metadata(path).map_err(|e| e.to_string())?;
+    if meta.is_dir() {
+        return Err("it is a folder, not a file".into());
+    }
+    if !meta.is_file() {
+        return Err("it is not a regular file (a device, pipe or socket)".into());
+    }
+    let too_big = |n: u64| format!("it is {n} bytes, above the limit of {limit} bytes");
+    if meta.len() > limit {
+        return Err(too_big(meta.len()));
+    }
+    let file = std::fs::File::open(path).map_err(|e| e.to_string())?;
+    // The size can change between the look and the read: read one byte
+    // more than allowed to tell.
+    let mut bytes = Vec::with_capacity(meta.len() as usize);
+    file.take(limit + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| e.to_string())?;
+    if bytes.len() as u64 > limit {
+        return Err(too_big(bytes.len() as u64));
+    }
+    Ok(bytes)
+}
+
+/// [`read_bounded`] for text.
+pub fn read_text(path: &Path, limit: u64) -> Result<String, String> {
+    String::from_utf8(read_bounded(path, limit)?).map_err(|e| {
+        format!(
+            "it is not UTF-8 text (a binary file?): the byte at offset {} is invalid",
+            e.utf8_error().valid_up_to()
+        )
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -94,13 +94,17 @@ pub struct MeshData {
     closed: bool,
 }
 
+/// Largest PLY file read: 2 GiB holds some 60 million triangles.
+pub const MAX_PLY_BYTES: u64 = 2 << 30;
+
 impl MeshData {
     pub fn load(path: &Path) -> Result<MeshData, PlyError> {
-        let bytes = std::fs::read(path).map_err(|e| PlyError {
-            message: format!("cannot read the file: {e}"),
-            line: None,
-            element: None,
-        })?;
+        let bytes =
+            crate::lang::source::read_bounded(path, MAX_PLY_BYTES).map_err(|e| PlyError {
+                message: format!("cannot read the file: {e}"),
+                line: None,
+                element: None,
+            })?;
         Self::from_bytes(&bytes)
     }
 

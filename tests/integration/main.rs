@@ -5,6 +5,7 @@ mod csg;
 mod diagnostics;
 mod examples;
 mod golden;
+mod hostile;
 mod lang;
 mod mesh;
 mod render;

@@ -57,6 +57,11 @@ impl ImageTexture {
     /// Reads a PNG or JPEG (any format the `image` crate was built with),
     /// decoding its display-encoded values with the scene's transfer curve.
     pub fn load(path: &Path, transfer: Transfer, mapping: UvMapping) -> Result<Self, ImageError> {
+        // A device or pipe would be read forever; a folder gives a poor message.
+        let meta = std::fs::metadata(path).map_err(|e| ImageError::Io(e.to_string()))?;
+        if !meta.is_file() {
+            return Err(ImageError::Io("it is not a regular file".into()));
+        }
         let reader = image::ImageReader::open(path)
             .map_err(|e| ImageError::Io(e.to_string()))?
             .with_guessed_format()
@@ -64,6 +69,11 @@ impl ImageTexture {
         let (width, height) = reader
             .into_dimensions()
             .map_err(|e| ImageError::Decode(e.to_string()))?;
+        if width == 0 || height == 0 {
+            return Err(ImageError::Decode(format!(
+                "the image is {width}x{height}: it has no pixels"
+            )));
+        }
         if width > MAX_TEXTURE_SIDE || height > MAX_TEXTURE_SIDE {
             return Err(ImageError::TooLarge {
                 width,
@@ -79,8 +89,14 @@ impl ImageTexture {
         limits.max_image_width = Some(MAX_TEXTURE_SIDE);
         limits.max_image_height = Some(MAX_TEXTURE_SIDE);
         reader.limits(limits);
-        let img = reader
-            .decode()
+        // The decoders are third-party code fed user bytes, and one has
+        // panicked on a mangled palette (a fuzz find): a panic would take the
+        // whole render down, so it is caught and reported as a bad file.
+        let decoded = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| reader.decode()))
+            .map_err(|_| {
+                ImageError::Decode("the file is malformed (the decoder gave up)".into())
+            })?;
+        let img = decoded
             .map_err(|e| ImageError::Decode(e.to_string()))?
             .to_rgb8();
         Ok(Self::from_rgb8(&img, transfer, mapping))
@@ -111,7 +127,8 @@ impl ImageTexture {
             uv.y = 1.0 - uv.y;
         }
         let uv = uv * m.scale + m.offset;
-        if !uv.is_finite() {
+        // An empty image (only `from_rgb8` can make one) has nothing to show.
+        if !uv.is_finite() || self.pixels.is_empty() {
             return Colour::ZERO;
         }
         // Image x grows with u; image rows grow downwards while v grows up.
@@ -197,5 +214,36 @@ mod tests {
         two_by_two().save(&good).unwrap();
         let t = ImageTexture::load(&good, Transfer::Linear, UvMapping::default()).unwrap();
         assert_eq!((t.width, t.height), (2, 2));
+    }
+
+    /// Fuzz find: a PPM of width 0 decoded, then sampling divided by zero.
+    #[test]
+    fn an_image_without_pixels_is_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        let empty = dir.path().join("empty.ppm");
+        std::fs::write(&empty, b"P35\n0 1\t\xc4\xff+ 3050\n").unwrap();
+        let r = ImageTexture::load(&empty, Transfer::Srgb, UvMapping::default());
+        assert!(matches!(r, Err(ImageError::Decode(m)) if m.contains("no pixels")));
+        let none = ImageTexture::from_rgb8(
+            &image::RgbImage::new(0, 3),
+            Transfer::Srgb,
+            UvMapping::default(),
+        );
+        assert_eq!(none.sample(DVec2::new(0.5, 0.5)), Colour::ZERO);
+    }
+
+    /// Fuzz find: a PNG whose palette holds one byte made the png crate
+    /// panic while decoding.
+    #[test]
+    fn a_decoder_panic_is_a_decode_error() {
+        let dir = tempfile::tempdir().unwrap();
+        let bad = dir.path().join("bad.png");
+        std::fs::write(
+            &bad,
+            include_bytes!("../../../tests/data/png_short_palette.png"),
+        )
+        .unwrap();
+        let r = ImageTexture::load(&bad, Transfer::Srgb, UvMapping::default());
+        assert!(matches!(r, Err(ImageError::Decode(_))));
     }
 }

@@ -1,0 +1,15 @@
+#!/bin/sh
+# Runs one fuzz target for SECONDS (default 600) on its working corpus and
+# the seeds: ./run.sh scene 1800. Needs cargo-fuzz; the stable toolchain is
+# told to allow libFuzzer's nightly flags.
+set -e
+t=$1; secs=${2:-600}
+case $t in
+  scene) len=16384 ;;
+  equation) len=512 ;;
+  *) len=65536 ;;
+esac
+cd "$(dirname "$0")"
+mkdir -p corpus/$t
+RUSTC_BOOTSTRAP=1 exec cargo fuzz run -s none -O "$t" corpus/$t seeds/$t -- \
+  -max_len=$len -timeout=10 -rss_limit_mb=2048 -max_total_time="$secs" -print_final_stats=1

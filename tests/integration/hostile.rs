@@ -1,0 +1,434 @@
+//! Hostile input: garbage, huge and empty files, deep nesting, infinite and
+//! NaN numbers in every position, degenerate geometry, bad command lines and
+//! interrupted renders. Each must end in a clear diagnostic or a picture,
+//! never a panic or a hang. The crashers the fuzzers found live here too
+//! (or beside their fix as unit tests).
+
+use crate::support::{project_root, scene_file};
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn raytrace(args: &[&std::ffi::OsStr]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_raytrace"))
+        .args(args)
+        .output()
+        .expect("run raytrace")
+}
+
+/// A refusal: a non-zero exit with a message and no panic.
+fn assert_refused(out: &Output, expect: &str) {
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "should fail: {err}");
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(err.contains(expect), "expected `{expect}` in: {err}");
+}
+
+/// Parses, builds and renders a scene at 8x6 pixels, catching panics: Ok
+/// for a picture, Err(message) for a diagnostic.
+fn outcome_at(dir: &Path, src: &str) -> Result<raytrace::render::Film, String> {
+    let path = dir.join("scene.rt");
+    let run = || -> Result<raytrace::render::Film, String> {
+        let program =
+            raytrace::lang::load_text(&path, src.to_owned()).map_err(|e| format!("{e:?}"))?;
+        let mut scene = raytrace::scene::build(&program).map_err(|e| format!("{e:?}"))?;
+        scene.settings.width = 8;
+        scene.settings.height = 6;
+        scene.settings.samples = 1;
+        let world = raytrace::accel::World::build(std::mem::take(&mut scene.objects));
+        let opts = raytrace::render::RenderOptions { progress: None };
+        raytrace::render::render(&scene, &world, &opts)
+            .map(|(f, _)| f)
+            .ok_or_else(|| "no camera frame".to_owned())
+    };
+    match std::panic::catch_unwind(std::panic::AssertUnwindSafe(run)) {
+        Ok(r) => r,
+        Err(p) => {
+            let msg = p
+                .downcast_ref::<String>()
+                .cloned()
+                .or_else(|| p.downcast_ref::<&str>().map(|s| s.to_string()))
+                .unwrap_or_default();
+            panic!("panicked on:\n{src}\n--- {msg}")
+        }
+    }
+}
+
+fn outcome(src: &str) -> Result<raytrace::render::Film, String> {
+    let dir = tempfile::tempdir().unwrap();
+    outcome_at(dir.path(), src)
+}
+
+#[test]
+fn binary_garbage_is_refused_as_not_text() {
+    let dir = tempfile::tempdir().unwrap();
+    let garbage = dir.path().join("garbage.rt");
+    // A fixed pseudo-random byte stream (no seed to vary between runs).
+    let mut x: u32 = 0x9e37_79b9;
+    let bytes: Vec<u8> = (0..4096)
+        .map(|_| {
+            x ^= x << 13;
+            x ^= x >> 17;
+            x ^= x << 5;
+            (x >> 24) as u8
+        })
+        .collect();
+    std::fs::write(&garbage, &bytes).unwrap();
+    let out = raytrace(&[garbage.as_os_str(), "--check".as_ref()]);
+    assert_refused(&out, "not UTF-8");
+    // Valid UTF-8 that is no scene: control characters and symbols.
+    let r = outcome("\u{1}\u{7f}§¶ ∞ {{{ <<< \"unterminated");
+    assert!(r.is_err());
+}
+
+#[test]
+fn empty_and_blank_files_give_a_picture_or_a_diagnostic() {
+    for src in [
+        "",
+        "\n\n\n",
+        "   \t  ",
+        "// only a comment",
+        "/* open comment",
+    ] {
+        match outcome(src) {
+            Ok(film) => assert_eq!((film.width, film.height), (8, 6)),
+            Err(e) => assert!(!e.is_empty()),
+        }
+    }
+}
+
+#[test]
+fn a_ten_megabyte_line_is_read() {
+    let long = format!(
+        "camera {{ position <0, 0, 5> look_at <0, 0, 0> up <0, 1, 0> fov 40 }} sphere {{ radius 1 }} // {}",
+        "x".repeat(10 << 20)
+    );
+    let film = outcome(&long).expect("a long comment is still a scene");
+    assert!(film.pixels.iter().any(|p| p.iter().any(|c| *c > 0.0)) || film.width == 8);
+    // And a 10 MB line of tokens that are not a scene is a diagnostic.
+    let junk = "sphere { radius 1 } ] ".repeat((10 << 20) / 22);
+    assert!(outcome(&junk).is_err());
+}
+
+#[test]
+fn deep_nesting_is_a_diagnostic_not_a_stack_overflow() {
+    let n = 20_000;
+    let cases = [
+        format!(
+            "{}sphere {{ radius 1 }}{}",
+            "union { ".repeat(n),
+            " }".repeat(n)
+        ),
+        format!(
+            "{}sphere {{ radius 1 }}{}",
+            "difference { ".repeat(n),
+            " }".repeat(n)
+        ),
+        format!("let a = {}1{}", "(".repeat(n), ")".repeat(n)),
+        format!("let a = {}1", "-".repeat(n)),
+        format!("let a = 1{}", " + 1".repeat(n)),
+        format!("let a = {}1{}", "<".repeat(n), ">".repeat(n)),
+        format!("implicit \"{}x{} - 1\" {{ }}", "(".repeat(n), ")".repeat(n)),
+    ];
+    for src in &cases {
+        let e = outcome(src)
+            .err()
+            .unwrap_or_else(|| panic!("accepted: {}", &src[..40]));
+        assert!(
+            e.contains("deep") || e.contains("nest"),
+            "{}",
+            &e[..e.len().min(400)]
+        );
+    }
+    // A chain of signs is no nesting: the equation compiles (even = x).
+    let signs = format!("implicit \"{}x - 1\" {{ }}", "-".repeat(n));
+    let _ = outcome(&signs);
+    // Right at the limit is fine: 60 unions deep renders.
+    let ok = format!(
+        "camera {{ position <0, 0, 5> look_at <0, 0, 0> up <0, 1, 0> fov 40 }} {}sphere {{ radius 1 }}{}",
+        "union { ".repeat(60),
+        " }".repeat(60)
+    );
+    assert!(outcome(&ok).is_ok());
+}
+
+/// Every numeric literal of the example scenes, one at a time, replaced by
+/// an infinite or NaN value: a diagnostic or a picture each time.
+#[test]
+fn infinite_and_nan_numbers_in_every_position() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut scenes = Vec::new();
+    for name in ["primitives.rt", "transforms.rt", "csg.rt"] {
+        scenes.push(std::fs::read_to_string(project_root().join("examples").join(name)).unwrap());
+    }
+    scenes.push(
+        "let R = 2\nlet r = 0.5\ncamera { position <0, 0, 9> look_at <0, 0, 0> up <0, 1, 0> fov 40 }\n\
+         light { position <4, 9, 7> intensity 0.9 }\n\
+         implicit \"(x^2+y^2+z^2+R^2-r^2)^2 - 4R^2(x^2+y^2)\" { bounded_by <-3, -3, -1> <3, 3, 1> material { colour rgb(1, 0, 0) } }\n\
+         sphere { radius 1 material { colour checker { a rgb(1, 1, 1) b rgb(0, 0, 0) scale 4 } } shear xy 0.5 matrix [1 0 0 0 1 0 0 0 1 0 0 0] }\n"
+            .to_owned(),
+    );
+    let mut tried = 0;
+    for src in &scenes {
+        let numbers = number_spans(src);
+        for (start, end) in numbers {
+            for bad in ["1e999", "-1e999", "(1e999 - 1e999)", "0"] {
+                let text = format!("{}{}{}", &src[..start], bad, &src[end..]);
+                if let Ok(film) = outcome_at(dir.path(), &text) {
+                    assert_eq!(film.pixels.len(), 48);
+                }
+                tried += 1;
+            }
+        }
+    }
+    assert!(tried > 300, "only {tried} variants");
+}
+
+/// Byte ranges of the numbers outside comments (digits with an optional
+/// point, not part of a name such as `x2`).
+fn number_spans(src: &str) -> Vec<(usize, usize)> {
+    let b = src.as_bytes();
+    let mut out = Vec::new();
+    let mut i = 0;
+    while i < b.len() {
+        if b[i] == b'/' && b.get(i + 1) == Some(&b'/') {
+            while i < b.len() && b[i] != b'\n' {
+                i += 1;
+            }
+            continue;
+        }
+        if b[i] == b'"' {
+            i += 1;
+            while i < b.len() && b[i] != b'"' {
+                i += 1;
+            }
+            i += 1;
+            continue;
+        }
+        let starts = b[i].is_ascii_digit()
+            && (i == 0 || !(b[i - 1].is_ascii_alphanumeric() || b[i - 1] == b'_'));
+        if starts {
+            let s = i;
+            while i < b.len() && (b[i].is_ascii_digit() || b[i] == b'.') {
+                i += 1;
+            }
+            out.push((s, i));
+        } else {
+            i += 1;
+        }
+    }
+    out
+}
+
+#[test]
+fn degenerate_geometry_gives_pictures_or_diagnostics() {
+    let cam = "camera { position <0, 0, 5> look_at <0, 0, 0> up <0, 1, 0> fov 40 }\nlight { position <2, 5, 5> intensity 1 }\n";
+    let shapes = [
+        "sphere { radius 0 }",
+        "sphere { radius -1 }",
+        "box { min <0, 0, 0> max <0, 0, 0> }",
+        "box { min <1, 1, 1> max <-1, -1, -1> }",
+        "triangle { a <0, 0, 0> b <1, 1, 1> c <2, 2, 2> }",
+        "triangle { a <0, 0, 0> b <0, 0, 0> c <0, 0, 0> }",
+        "rectangle { bottom_left <0, 0, 0> top_left <0, 0, 0> bottom_right <1, 0, 0> }",
+        "cylinder { radius 0 height 0 }",
+        "cone { radius 0 height 0 }",
+        "disc { radius 0 }",
+        "torus { major 0 minor 0 }",
+        "sphere { radius 1 scale 0 }",
+        "sphere { radius 1 scale <1, 0, 1> }",
+        "sphere { radius 1 matrix [0 0 0 0 0 0 0 0 0 0 0 0] }",
+        "difference { sphere { radius 1 } sphere { radius 1 } }",
+        "intersection { sphere { radius 1 translate <-5, 0, 0> } sphere { radius 1 translate <5, 0, 0> } }",
+        "union { }",
+        "plane { normal <0, 0, 0> }",
+    ];
+    for s in shapes {
+        let _ = outcome(&format!("{cam}{s}"));
+    }
+    // Up parallel to the view direction, look_at at the position, zero fov.
+    for c in [
+        "camera { position <0, 5, 0> look_at <0, 0, 0> up <0, 1, 0> fov 40 }",
+        "camera { position <0, 0, 0> look_at <0, 0, 0> up <0, 1, 0> fov 40 }",
+        "camera { position <0, 0, 5> look_at <0, 0, 0> up <0, 0, 0> fov 40 }",
+        "camera { position <0, 0, 5> look_at <0, 0, 0> up <0, 1, 0> fov 0 }",
+        "camera { position <0, 0, 5> look_at <0, 0, 0> up <0, 1, 0> fov 180 }",
+    ] {
+        let r = outcome(&format!("{c}\nsphere {{ radius 1 }}"));
+        if let Err(e) = r {
+            assert!(
+                ["camera", "up", "fov", "angle"]
+                    .iter()
+                    .any(|w| e.contains(w)),
+                "{e}"
+            );
+        }
+    }
+    // A camera and a light inside a closed sphere see its inside, lit.
+    let inside = "camera { position <0, 0, 0> look_at <0, 0, -1> up <0, 1, 0> fov 60 }\n\
+                  light { position <0, 0.5, 0> intensity 1 }\n\
+                  sphere { radius 3 material { colour rgb(1, 1, 1) } }";
+    let film = outcome(inside).expect("camera inside renders");
+    assert!(
+        film.pixels.iter().all(|p| p[0] > 0.0),
+        "the inside is lit everywhere"
+    );
+}
+
+#[test]
+fn special_files_are_refused_not_read_forever() {
+    let dir = tempfile::tempdir().unwrap();
+    // A scene that is a folder, and one that is a device.
+    let out = raytrace(&[dir.path().as_os_str(), "--check".as_ref()]);
+    assert_refused(&out, "folder");
+    if Path::new("/dev/zero").exists() {
+        let out = raytrace(&["/dev/zero".as_ref(), "--check".as_ref()]);
+        assert_refused(&out, "not a regular file");
+        for src in [
+            "include \"/dev/zero\"",
+            "mesh \"/dev/zero\" { }",
+            "material m { colour image \"/dev/zero\" }",
+        ] {
+            let e = outcome(src)
+                .err()
+                .unwrap_or_else(|| panic!("accepted: {}", &src[..40]));
+            assert!(e.contains("regular file"), "{e}");
+        }
+    }
+    // Includes of a folder and of binary data.
+    std::fs::write(dir.path().join("bin.rt"), [0xff, 0xfe, 0, 1, 2]).unwrap();
+    std::fs::create_dir(dir.path().join("sub")).unwrap();
+    let e = outcome_at(dir.path(), "include \"bin.rt\"\ninclude \"sub\"").unwrap_err();
+    assert!(e.contains("UTF-8") && e.contains("folder"), "{e}");
+}
+
+#[test]
+fn a_ply_header_claiming_a_trillion_vertices_allocates_nothing() {
+    let ply = "ply\nformat ascii 1.0\nelement vertex 1000000000000\nproperty float x\nproperty float y\nproperty float z\nelement face 1000000000000\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n";
+    assert!(raytrace::shapes::MeshData::from_bytes(ply.as_bytes()).is_err());
+    let bin = ply.replace("ascii", "binary_little_endian");
+    assert!(raytrace::shapes::MeshData::from_bytes(bin.as_bytes()).is_err());
+}
+
+#[test]
+fn texture_images_claiming_huge_sizes_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("huge.ppm"), b"P6\n100000 100000\n255\n\0").unwrap();
+    let e = outcome_at(
+        dir.path(),
+        "material m { colour image \"huge.ppm\" }\nsphere { radius 1 material m }",
+    )
+    .unwrap_err();
+    assert!(e.contains("16384"), "{e}");
+}
+
+#[test]
+fn invalid_command_lines_are_clear_errors() {
+    let (dir, scene) = scene_file(
+        "camera { position <0, 0, 5> look_at <0, 0, 0> up <0, 1, 0> fov 40 }\nsphere { radius 1 }",
+    );
+    let png = dir.path().join("out.png");
+    let s = scene.as_os_str();
+    let o = png.as_os_str();
+    for (args, expect) in [
+        (vec![s, "-o".as_ref(), o, "--width=-5".as_ref()], "--width"),
+        (
+            vec![s, "-o".as_ref(), o, "--height".as_ref(), "0".as_ref()],
+            "--height",
+        ),
+        (
+            vec![s, "-o".as_ref(), o, "--threads".as_ref(), "0".as_ref()],
+            "--threads",
+        ),
+        (
+            vec![s, "-o".as_ref(), o, "--samples".as_ref(), "0".as_ref()],
+            "--samples",
+        ),
+        (
+            vec![s, "-o".as_ref(), o, "--width".as_ref(), "1e3".as_ref()],
+            "--width",
+        ),
+        (vec![s, "-o".as_ref(), dir.path().as_os_str()], "directory"),
+        (vec![s, "-o".as_ref(), "out.gif".as_ref()], "image format"),
+        (
+            vec![s, "-o".as_ref(), "/nonexistent-dir/out.png".as_ref()],
+            "cannot write",
+        ),
+        (vec![s], "--output"),
+    ] {
+        let out = raytrace(&args);
+        assert_refused(&out, expect);
+    }
+    assert!(!png.exists());
+}
+
+/// A render killed halfway, by SIGINT (the Ctrl-C handler) or SIGKILL,
+/// leaves the existing image as it was and no temporary file.
+#[test]
+fn an_interrupted_render_leaves_the_old_image_and_no_temporary() {
+    let (dir, scene) = scene_file(
+        "camera { position <0, 0, 5> look_at <0, 0, 0> up <0, 1, 0> fov 40 }\n\
+         render { width 3000 height 3000 samples 16 max_depth 8 }\n\
+         light { position <2, 5, 5> intensity 1 }\n\
+         sphere { radius 1 material { colour rgb(1, 1, 1) reflect 0.5 } }\n\
+         plane { normal <0, 1, 0> material { colour rgb(1, 1, 1) reflect 0.5 } translate <0, -1, 0> }",
+    );
+    let out = dir.path().join("out.png");
+    std::fs::write(&out, b"the previous image").unwrap();
+    for signal in ["-INT", "-KILL"] {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_raytrace"))
+            .args([
+                scene.as_os_str(),
+                "-q".as_ref(),
+                "-o".as_ref(),
+                out.as_os_str(),
+            ])
+            .spawn()
+            .unwrap();
+        std::thread::sleep(std::time::Duration::from_millis(700));
+        let killed = Command::new("kill")
+            .args([signal, &child.id().to_string()])
+            .status()
+            .unwrap();
+        assert!(killed.success());
+        let status = child.wait().unwrap();
+        assert!(
+            !status.success(),
+            "the render was still running when killed"
+        );
+        assert_eq!(std::fs::read(&out).unwrap(), b"the previous image");
+        let names: Vec<_> = std::fs::read_dir(dir.path())
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        assert!(
+            names.iter().all(|n| !n.ends_with(".tmp")),
+            "left behind: {names:?}"
+        );
+    }
+}
+
+/// Writing to a full device is a clear error: /dev/full rejects every
+/// write, and its folder is not ours to make temporaries in, so the error
+/// comes from the temporary file beside it.
+#[test]
+fn unwritable_targets_are_clear_errors() {
+    if !Path::new("/dev/full").exists() {
+        return;
+    }
+    let (_dir, scene) = scene_file(
+        "camera { position <0, 0, 5> look_at <0, 0, 0> up <0, 1, 0> fov 40 }\nrender { width 4 height 3 }\nsphere { radius 1 }",
+    );
+    let out = raytrace(&[scene.as_os_str(), "-o".as_ref(), "/dev/full/x.png".as_ref()]);
+    assert_refused(&out, "cannot write");
+    // A read-only folder (root may write anyway, so only when it refuses).
+    let ro = tempfile::tempdir().unwrap();
+    let mut perm = std::fs::metadata(ro.path()).unwrap().permissions();
+    perm.set_readonly(true);
+    std::fs::set_permissions(ro.path(), perm).unwrap();
+    let target = ro.path().join("x.png");
+    let out = raytrace(&[scene.as_os_str(), "-o".as_ref(), target.as_os_str()]);
+    if !out.status.success() {
+        assert_refused(&out, "cannot write");
+        assert_eq!(std::fs::read_dir(ro.path()).unwrap().count(), 0);
+    }
+}
