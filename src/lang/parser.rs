@@ -20,7 +20,8 @@ pub const MAX_NESTING: usize = 64;
 /// recurse, and so does a long sum once it is a tree).
 pub const MAX_EXPR_DEPTH: usize = 256;
 
-/// Statement keywords, for the "did you mean to close … before …" hint.
+/// Statement keywords: for the "did you mean to close … before …" hint,
+/// and the builder's suggestions for an unknown statement.
 pub const STATEMENT_KEYWORDS: &[&str] = &[
     "camera",
     "render",

@@ -24,6 +24,7 @@ use crate::geometry::DVec3;
 use crate::lang::Program;
 use crate::lang::ast::{Block, Item, Span, Spanned};
 use crate::lang::diagnostics::{Error, Problems, did_you_mean};
+use crate::lang::parser::STATEMENT_KEYWORDS;
 use crate::shapes::MeshData;
 use eval::{Constant, Env, Value};
 use params::{Param, Params, Schema};
@@ -163,7 +164,7 @@ impl<'p> Builder<'p> {
                     self.scene.objects.extend(shapes);
                 }
                 other => {
-                    let help = did_you_mean(other, TOP_KEYWORDS.iter().copied()).unwrap_or_else(|| {
+                    let help = did_you_mean(other, STATEMENT_KEYWORDS.iter().copied()).unwrap_or_else(|| {
                         "statements are camera, render, ambient, light, material, let, include and the objects".into()
                     });
                     self.err(
@@ -204,7 +205,7 @@ impl<'p> Builder<'p> {
                     let block_at = |k: usize| matches!(items.get(k), Some(Item::Block(_)));
                     let next_statement = matches!(it, Item::Let { .. })
                         || it.as_name().is_some_and(|n| {
-                            TOP_KEYWORDS.contains(&n.node)
+                            STATEMENT_KEYWORDS.contains(&n.node)
                                 && (n.node == "ambient" || block_at(*i + 1) || block_at(*i + 2))
                         });
                     if next_statement {
@@ -562,7 +563,10 @@ impl<'p> Builder<'p> {
             let at = items[*i].span();
             *i += 1;
             match items.get(*i) {
-                Some(v) if v.as_name().is_none_or(|n| !TOP_KEYWORDS.contains(&n.node)) => {
+                Some(v)
+                    if v.as_name()
+                        .is_none_or(|n| !STATEMENT_KEYWORDS.contains(&n.node)) =>
+                {
                     *i += 1;
                     intensity = self.checked(v, |x| x >= 0.0, "0 or more");
                 }
@@ -709,32 +713,6 @@ impl<'p> Builder<'p> {
         None
     }
 }
-
-/// Statement keywords at the top level (for suggestions).
-const TOP_KEYWORDS: &[&str] = &[
-    "camera",
-    "render",
-    "ambient",
-    "light",
-    "material",
-    "let",
-    "include",
-    "sphere",
-    "plane",
-    "box",
-    "cylinder",
-    "cone",
-    "disc",
-    "triangle",
-    "rectangle",
-    "torus",
-    "implicit",
-    "mesh",
-    "group",
-    "union",
-    "intersection",
-    "difference",
-];
 
 /// The output curve from `render { gamma … }`, found before anything else
 /// is built because it decides what `#rrggbb` and named colours mean.
