@@ -103,6 +103,38 @@ pub trait Shape: Send + Sync + std::fmt::Debug {
     }
 }
 
+/// Möller–Trumbore for a flat patch spanned by `e1` and `e2` from
+/// `origin`: the line's (t, u, v) with the point at origin + u·e1 + v·e2,
+/// when 0 ≤ u ≤ 1 and `accept(u, v)` (the patch's shape: a triangle or a
+/// parallelogram). `None` for a line parallel to the patch or a degenerate
+/// patch, whose determinant is zero for every line.
+pub(crate) fn planar_hit(
+    origin: DVec3,
+    e1: DVec3,
+    e2: DVec3,
+    ray: &Ray,
+    accept: impl Fn(f64, f64) -> bool,
+) -> Option<(f64, f64, f64)> {
+    let p = ray.dir.cross(e2);
+    let det = e1.dot(p);
+    if det == 0.0 || !det.is_finite() {
+        return None;
+    }
+    let inv = 1.0 / det;
+    let s = ray.origin - origin;
+    let u = s.dot(p) * inv;
+    if !(0.0..=1.0).contains(&u) {
+        return None;
+    }
+    let q = s.cross(e1);
+    let v = ray.dir.dot(q) * inv;
+    if !accept(u, v) {
+        return None;
+    }
+    let t = e2.dot(q) * inv;
+    t.is_finite().then_some((t, u, v))
+}
+
 /// Solves a·t² + b·t + c = 0 (a ≠ 0) without cancellation: the root of the
 /// larger magnitude comes from the q-form `q = -(b + sign(b)·√disc)/2`, the
 /// other from `c / q`, so neither subtracts nearly equal numbers.

@@ -8,7 +8,7 @@
 //! faces +z. Texture space: u runs from 0 to 1 along bottom_left →
 //! bottom_right, v along bottom_left → top_left.
 
-use super::{Hit, Shape};
+use super::{Hit, Shape, planar_hit};
 use crate::geometry::{Aabb, DVec2, DVec3, Ray};
 use crate::scene::MaterialId;
 
@@ -42,24 +42,13 @@ impl Rectangle {
 
     /// Möller–Trumbore with the parallelogram's bounds (u, v each in [0, 1]).
     fn root(&self, ray: &Ray) -> Option<Hit> {
-        let p = ray.dir.cross(self.v_edge);
-        let det = self.u_edge.dot(p);
-        if det == 0.0 || !det.is_finite() || self.normal == DVec3::ZERO {
+        if self.normal == DVec3::ZERO {
             return None;
         }
-        let inv = 1.0 / det;
-        let s = ray.origin - self.origin;
-        let u = s.dot(p) * inv;
-        if !(0.0..=1.0).contains(&u) {
-            return None;
-        }
-        let q = s.cross(self.u_edge);
-        let v = ray.dir.dot(q) * inv;
-        if !(0.0..=1.0).contains(&v) {
-            return None;
-        }
-        let t = self.v_edge.dot(q) * inv;
-        t.is_finite().then(|| Hit {
+        let (t, u, v) = planar_hit(self.origin, self.u_edge, self.v_edge, ray, |_, v| {
+            (0.0..=1.0).contains(&v)
+        })?;
+        Some(Hit {
             t,
             normal: self.normal,
             uv: DVec2::new(u, v),

@@ -7,7 +7,7 @@
 //! viewer. Texture space: barycentric, u the weight of b and v of c (so a is
 //! (0, 0), b is (1, 0), c is (0, 1)).
 
-use super::{Hit, Shape};
+use super::{Hit, Shape, planar_hit};
 use crate::geometry::{Aabb, DVec2, DVec3, Ray};
 use crate::scene::MaterialId;
 
@@ -35,24 +35,13 @@ impl Triangle {
     /// Möller–Trumbore along the whole line. A zero-area triangle has a zero
     /// determinant for every ray and is never hit.
     fn root(&self, ray: &Ray) -> Option<Hit> {
-        let p = ray.dir.cross(self.e2);
-        let det = self.e1.dot(p);
-        if det == 0.0 || !det.is_finite() || self.normal == DVec3::ZERO {
+        if self.normal == DVec3::ZERO {
             return None;
         }
-        let inv = 1.0 / det;
-        let s = ray.origin - self.a;
-        let u = s.dot(p) * inv;
-        if !(0.0..=1.0).contains(&u) {
-            return None;
-        }
-        let q = s.cross(self.e1);
-        let v = ray.dir.dot(q) * inv;
-        if v < 0.0 || u + v > 1.0 {
-            return None;
-        }
-        let t = self.e2.dot(q) * inv;
-        t.is_finite().then(|| Hit {
+        let (t, u, v) = planar_hit(self.a, self.e1, self.e2, ray, |u, v| {
+            v >= 0.0 && u + v <= 1.0
+        })?;
+        Some(Hit {
             t,
             normal: self.normal,
             uv: DVec2::new(u, v),
