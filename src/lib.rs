@@ -13,6 +13,7 @@
 pub mod accel;
 pub mod cli;
 pub mod geometry;
+pub mod guard;
 pub mod implicit;
 pub mod lang;
 pub mod output;

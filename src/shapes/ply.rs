@@ -237,8 +237,7 @@ fn parse_with(bytes: &[u8], fast: bool) -> Result<PlyMesh, PlyError> {
     // The crate has shown no panics on mangled input (see the property test),
     // but it is third-party code fed user bytes: a panic would take the
     // whole render down, so it is caught and reported as a bad file.
-    let result = std::panic::catch_unwind(|| read(&text, fast));
-    result.unwrap_or_else(|_| {
+    crate::guard::catch_quietly(|| read(&text, fast)).unwrap_or_else(|| {
         Err(err(
             "the file is malformed (the PLY reader gave up)",
             None,

@@ -92,10 +92,9 @@ impl ImageTexture {
         // The decoders are third-party code fed user bytes, and one has
         // panicked on a mangled palette (a fuzz find): a panic would take the
         // whole render down, so it is caught and reported as a bad file.
-        let decoded = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| reader.decode()))
-            .map_err(|_| {
-                ImageError::Decode("the file is malformed (the decoder gave up)".into())
-            })?;
+        let decoded = crate::guard::catch_quietly(|| reader.decode()).ok_or_else(|| {
+            ImageError::Decode("the file is malformed (the decoder gave up)".into())
+        })?;
         let img = decoded
             .map_err(|e| ImageError::Decode(e.to_string()))?
             .to_rgb8();
