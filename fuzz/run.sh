@@ -1,8 +1,9 @@
 #!/bin/sh
 # Runs one fuzz target for SECONDS (default 600) on its working corpus and
 # the seeds: ./run.sh scene 1800. Further arguments go to libFuzzer, e.g.
-# ./run.sh ply 3600 -runs=10000000 stops at whichever limit comes first. Needs cargo-fuzz; the stable toolchain is
-# told to allow libFuzzer's nightly flags.
+# ./run.sh ply 3600 -runs=10000000 stops at whichever limit comes first.
+# Needs cargo-fuzz; the stable toolchain is told to allow libFuzzer's
+# nightly flags.
 set -e
 t=$1; secs=${2:-600}; shift; [ $# -gt 0 ] && shift
 case $t in

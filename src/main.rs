@@ -13,7 +13,10 @@ fn main() -> ExitCode {
     match raytrace::run(&args) {
         Ok(()) => ExitCode::SUCCESS,
         Err(report) => {
-            eprintln!("{report:?}");
+            // Rendered whole, then written once: stderr is unbuffered, and a
+            // snippet of a long line would otherwise cost a write per character.
+            let text = format!("{report:?}");
+            eprintln!("{text}");
             ExitCode::FAILURE
         }
     }

@@ -119,6 +119,28 @@ pub fn write(
     format: Format,
     transfer: Transfer,
 ) -> Result<(), OutputError> {
+    write_through(film, path, format, transfer, |t| std::fs::File::create(t))
+}
+
+/// Where the encoder writes: a file that can be flushed to the disk before
+/// the rename makes it visible. Tests substitute a file whose disk fills up.
+trait Sink: std::io::Write + std::io::Seek {
+    fn sync(&self) -> std::io::Result<()>;
+}
+
+impl Sink for std::fs::File {
+    fn sync(&self) -> std::io::Result<()> {
+        self.sync_all()
+    }
+}
+
+fn write_through<S: Sink>(
+    film: &Film,
+    path: &Path,
+    format: Format,
+    transfer: Transfer,
+    create: impl FnOnce(&Path) -> std::io::Result<S>,
+) -> Result<(), OutputError> {
     let err = |reason: String| OutputError::Write {
         path: path.to_owned(),
         reason,
@@ -135,15 +157,16 @@ pub fn write(
     ));
     set_pending(Some(tmp.clone()));
     let result = (|| {
-        let file = std::fs::File::create(&tmp).map_err(|e| err(e.to_string()))?;
+        let file = create(&tmp).map_err(|e| err(e.to_string()))?;
         let mut out = std::io::BufWriter::new(file);
         let encoded = match format {
             Format::Exr | Format::Hdr => to_rgb32f(film).write_to(&mut out, format.image_format()),
             _ => to_rgb8(film, transfer).write_to(&mut out, format.image_format()),
         };
         encoded.map_err(|e| err(e.to_string()))?;
-        let file = out.into_inner().map_err(|e| err(e.to_string()))?;
-        file.sync_all().map_err(|e| err(e.to_string()))?;
+        let file = out.into_inner().map_err(|e| err(e.error().to_string()))?;
+        file.sync().map_err(|e| err(e.to_string()))?;
+        drop(file);
         std::fs::rename(&tmp, path).map_err(|e| err(e.to_string()))
     })();
     if result.is_err() {
@@ -193,6 +216,67 @@ mod tests {
         assert!(!tmp.exists());
         // Nothing pending: nothing to do, and no error.
         remove_pending();
+    }
+
+    /// A real file on a disk with `room` bytes left.
+    struct NearlyFull {
+        file: std::fs::File,
+        room: usize,
+    }
+
+    impl std::io::Write for NearlyFull {
+        fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+            if self.room == 0 {
+                return Err(std::io::Error::from_raw_os_error(28)); // ENOSPC
+            }
+            let n = buf.len().min(self.room);
+            self.room -= n;
+            self.file.write(&buf[..n])
+        }
+        fn flush(&mut self) -> std::io::Result<()> {
+            self.file.flush()
+        }
+    }
+
+    impl std::io::Seek for NearlyFull {
+        fn seek(&mut self, pos: std::io::SeekFrom) -> std::io::Result<u64> {
+            self.file.seek(pos)
+        }
+    }
+
+    impl Sink for NearlyFull {
+        fn sync(&self) -> std::io::Result<()> {
+            self.file.sync_all()
+        }
+    }
+
+    #[test]
+    fn a_full_disk_is_an_error_and_keeps_the_old_image() {
+        let dir = tempfile::tempdir().unwrap();
+        let film = Film::new(64, 64, vec![[0.3, 0.6, 0.9]; 64 * 64]);
+        for ext in ["png", "jpg", "exr", "hdr", "ppm"] {
+            let p = dir.path().join(format!("out.{ext}"));
+            std::fs::write(&p, b"the old picture").unwrap();
+            let r = write_through(
+                &film,
+                &p,
+                Format::from_path(&p).unwrap(),
+                Transfer::Srgb,
+                |t| {
+                    Ok(NearlyFull {
+                        file: std::fs::File::create(t)?,
+                        room: 100,
+                    })
+                },
+            );
+            let Err(OutputError::Write { reason, .. }) = r else {
+                panic!("{ext}: a full disk was not an error: {r:?}");
+            };
+            assert!(reason.contains("No space left"), "{ext}: {reason}");
+            assert_eq!(std::fs::read(&p).unwrap(), b"the old picture", "{ext}");
+        }
+        // Nothing but the five old pictures: every temporary was removed.
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 5);
     }
 
     #[test]

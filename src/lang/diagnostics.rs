@@ -6,7 +6,9 @@
 
 use super::ast::Span;
 use super::source::Sources;
-use miette::{Diagnostic, LabeledSpan, NamedSource, SourceCode};
+use miette::{
+    Diagnostic, LabeledSpan, MietteError, MietteSpanContents, SourceCode, SourceSpan, SpanContents,
+};
 use std::fmt;
 use std::sync::Arc;
 
@@ -82,11 +84,95 @@ pub fn did_you_mean<'a>(
     closest(name, candidates).map(|c| format!("did you mean `{c}`?"))
 }
 
+/// Lines up to this many bytes are shown whole in a snippet; longer ones
+/// are cut to about this much around the mistake.
+const LONG_LINE: usize = 200;
+
+/// A file's text as miette reads it for snippets, with long lines cut down
+/// to a window around the span: a mistake in a 10 MB one-line file shows
+/// the few dozen characters that matter, not the whole line.
+pub struct Excerpt {
+    name: String,
+    text: Arc<str>,
+}
+
+impl fmt::Debug for Excerpt {
+    // The name and size only: a debug print of every problem must not
+    // repeat a 10 MB file once per problem.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "Excerpt({}, {} bytes)", self.name, self.text.len())
+    }
+}
+
+impl Excerpt {
+    pub fn new(name: &str, text: Arc<str>) -> Excerpt {
+        Excerpt {
+            name: name.to_owned(),
+            text,
+        }
+    }
+}
+
+impl SourceCode for Excerpt {
+    fn read_span<'a>(
+        &'a self,
+        span: &SourceSpan,
+        before: usize,
+        after: usize,
+    ) -> Result<Box<dyn SpanContents<'a> + 'a>, MietteError> {
+        let bytes = self.text.as_bytes();
+        let named = |c: MietteSpanContents<'a>| -> Box<dyn SpanContents<'a> + 'a> {
+            Box::new(MietteSpanContents::new_named(
+                self.name.clone(),
+                c.data(),
+                *c.span(),
+                c.line(),
+                c.column(),
+                c.line_count(),
+            ))
+        };
+        let full = bytes.read_span(span, before, after)?;
+        let longest = full.data().split(|&b| b == b'\n').map(<[u8]>::len).max();
+        if longest.unwrap_or(0) <= LONG_LINE {
+            let full = MietteSpanContents::new(
+                full.data(),
+                *full.span(),
+                full.line(),
+                full.column(),
+                full.line_count(),
+            );
+            return Ok(named(full));
+        }
+        // A window on the span's own line, without context lines.
+        let text = &*self.text;
+        let floor = |i: usize| super::source::floor_char_boundary(text, i);
+        let at = floor(span.offset());
+        let line_start = text[..at].rfind('\n').map_or(0, |i| i + 1);
+        let line_end = text[at..].find('\n').map_or(text.len(), |i| at + i);
+        let start = floor(at.saturating_sub(LONG_LINE / 4).max(line_start));
+        let end = floor(
+            (at + span.len())
+                .max(at + LONG_LINE / 2)
+                .min(start + LONG_LINE)
+                .min(line_end),
+        );
+        let here = bytes.read_span(&(start, 0).into(), 0, 0)?;
+        let window = MietteSpanContents::new(
+            &bytes[start..end],
+            (start, end - start).into(),
+            here.line(),
+            here.column(),
+            1,
+        );
+        Ok(named(window))
+    }
+}
+
 /// One mistake, ready to render.
 #[derive(Debug)]
 pub struct Problem {
     message: String,
-    src: Option<NamedSource<Arc<str>>>,
+    src: Option<Excerpt>,
     labels: Vec<LabeledSpan>,
     help: Option<String>,
 }
@@ -127,7 +213,12 @@ impl Problem {
         // and to character boundaries: miette slices the text with them.
         let clamp = |s: Span| {
             let a = super::source::floor_char_boundary(text, s.start);
-            let b = super::source::floor_char_boundary(text, s.end.max(a));
+            let mut b = super::source::floor_char_boundary(text, s.end.max(a));
+            // A label that runs along one long line for more than a
+            // snippet's width is cut there (the snippet is cut too).
+            if b - a > LONG_LINE && !text.as_bytes()[a..a + LONG_LINE].contains(&b'\n') {
+                b = super::source::floor_char_boundary(text, a + LONG_LINE);
+            }
             (a, b - a)
         };
         let mut labels = vec![LabeledSpan::new_primary_with_span(
@@ -153,12 +244,16 @@ impl Problem {
         }
         Problem {
             message: e.message,
-            src: Some(sources.named(file)),
+            src: Some(sources.excerpt(file)),
             labels,
             help: (!help.is_empty()).then(|| help.join("\n")),
         }
     }
 }
+
+/// A run reports at most this many mistakes: past that, more of them help
+/// nobody, and a file of junk (a million stray `]`) would print for minutes.
+pub const MAX_SHOWN: usize = 25;
 
 /// Every mistake of a run: what `lang::load` and `scene::build` return.
 /// With one mistake it renders as that mistake; with several, under a
@@ -177,12 +272,15 @@ impl Problems {
         let n = errors.len();
         let problems: Vec<Problem> = errors
             .into_iter()
+            .take(MAX_SHOWN)
             .map(|e| Problem::from_error(sources, e))
             .collect();
-        Problems {
-            headline: format!("{n} errors in {root}"),
-            problems,
-        }
+        let headline = if n > MAX_SHOWN {
+            format!("{n} errors in {root}; the first {MAX_SHOWN} are shown")
+        } else {
+            format!("{n} errors in {root}")
+        };
+        Problems { headline, problems }
     }
 
     /// A problem with no place in a file (the scene file cannot be read).

@@ -193,16 +193,22 @@ fn expr(p: Pair<Rule>, at: Loc) -> Result<Expr, Error> {
 }
 
 fn expr_depth(p: Pair<Rule>, at: Loc) -> Built {
-    let span = span_of(&p, at);
-    // The Pratt parser recurses once per prefix and per `^`: cap them
-    // before it runs.
-    let chained = p
-        .clone()
-        .into_inner()
-        .filter(|c| matches!(c.as_rule(), Rule::neg | Rule::pow))
-        .count();
-    if chained > MAX_EXPR_DEPTH {
-        return Err(too_deep(span));
+    // Each operator adds a level to the tree (a flat `1+1+…` is a chain as
+    // long as the sum): cap the count before the Pratt parser runs, at the
+    // operator that breaks it, so a 10 MB one-line sum costs one scan.
+    let mut operators = p.clone().into_inner().filter(|c| {
+        matches!(
+            c.as_rule(),
+            Rule::neg | Rule::add | Rule::sub | Rule::mul | Rule::div | Rule::pow
+        )
+    });
+    if let Some(op) = operators.nth(MAX_EXPR_DEPTH) {
+        return Err(Error::new(
+            span_of(&op, at),
+            format!("this expression has more than {MAX_EXPR_DEPTH} operators"),
+        )
+        .label(format!("operator {}", MAX_EXPR_DEPTH + 1))
+        .help("split it into parts with `let`"));
     }
     PRATT
         .map_primary(|p| primary(p, at))
@@ -826,19 +832,19 @@ mod tests {
         assert!(
             parse(&src, F).unwrap_err()[0]
                 .message
-                .contains("too deeply")
+                .contains("more than 256 operators")
         );
         let src = format!("let a = 1{}", "^1".repeat(100_000));
         assert!(
             parse(&src, F).unwrap_err()[0]
                 .message
-                .contains("too deeply")
+                .contains("more than 256 operators")
         );
         let src = format!("let a = 1{}", "+1".repeat(100_000));
         assert!(
             parse(&src, F).unwrap_err()[0]
                 .message
-                .contains("too deeply")
+                .contains("more than 256 operators")
         );
     }
 

@@ -3,7 +3,6 @@
 //! its line and column, and how it was included.
 
 use super::ast::{FileId, Span};
-use miette::NamedSource;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -45,9 +44,9 @@ impl Sources {
     }
 
     /// The source for miette: named, so reports print `file:line:col`.
-    pub fn named(&self, id: FileId) -> NamedSource<Arc<str>> {
+    pub fn excerpt(&self, id: FileId) -> super::diagnostics::Excerpt {
         let f = self.get(id);
-        NamedSource::new(&f.name, f.text.clone())
+        super::diagnostics::Excerpt::new(&f.name, f.text.clone())
     }
 
     /// 1-based line and column (in characters) of a byte offset.

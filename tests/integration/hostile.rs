@@ -104,9 +104,13 @@ fn a_ten_megabyte_line_is_read() {
     );
     let film = outcome(&long).expect("a long comment is still a scene");
     assert!(film.pixels.iter().any(|p| p.iter().any(|c| *c > 0.0)) || film.width == 8);
-    // And a 10 MB line of tokens that are not a scene is a diagnostic.
+    // And a 10 MB line of tokens that are not a scene is a diagnostic: a
+    // short one, though every one of its 476,625 `]` is a mistake.
     let junk = "sphere { radius 1 } ] ".repeat((10 << 20) / 22);
-    assert!(outcome(&junk).is_err());
+    let err = outcome(&junk).expect_err("junk is not a scene");
+    assert!(err.contains("476625 errors"), "{}", &err[..200]);
+    assert!(err.contains("the first 25 are shown"));
+    assert!(err.len() < 20_000, "{} bytes of report", err.len());
 }
 
 #[test]
@@ -134,7 +138,7 @@ fn deep_nesting_is_a_diagnostic_not_a_stack_overflow() {
             .err()
             .unwrap_or_else(|| panic!("accepted: {}", &src[..40]));
         assert!(
-            e.contains("deep") || e.contains("nest"),
+            e.contains("deep") || e.contains("nest") || e.contains("more than 256 operators"),
             "{}",
             &e[..e.len().min(400)]
         );
@@ -430,5 +434,81 @@ fn unwritable_targets_are_clear_errors() {
     if !out.status.success() {
         assert_refused(&out, "cannot write");
         assert_eq!(std::fs::read_dir(ro.path()).unwrap().count(), 0);
+    }
+}
+
+/// A real full disk: a 64 KiB tmpfs holding an old picture, and a render
+/// whose PNG cannot fit beside it. Mounting needs root (CAP_SYS_ADMIN), as
+/// on CI and the development machines; elsewhere the unit test
+/// `output::tests::a_full_disk_is_an_error_and_keeps_the_old_image` covers
+/// the same path with a simulated disk, and this test says it was skipped.
+#[test]
+fn a_full_disk_is_a_clear_error_and_keeps_the_old_image() {
+    let dir = tempfile::tempdir().unwrap();
+    let mnt = dir.path().join("small");
+    std::fs::create_dir(&mnt).unwrap();
+    let mounted = Command::new("mount")
+        .args(["-t", "tmpfs", "-o", "size=64k", "tmpfs"])
+        .arg(&mnt)
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if !mounted {
+        eprintln!("skipped: cannot mount a tmpfs here (not root)");
+        return;
+    }
+    struct Unmount<'a>(&'a Path);
+    impl Drop for Unmount<'_> {
+        fn drop(&mut self) {
+            let _ = Command::new("umount").arg(self.0).status();
+        }
+    }
+    let _guard = Unmount(&mnt);
+    let old = mnt.join("out.png");
+    // The old picture takes most of the room, so a noisy 400x400 PNG
+    // (a textured scene compresses poorly) cannot fit.
+    std::fs::write(&old, vec![7u8; 40 * 1024]).unwrap();
+    let (_scene_dir, scene) = scene_file(
+        "camera { position <0, 0, 5>  look_at <0, 0, 0>  fov 60 }\n\
+         light { position <3, 4, 5> }\n\
+         sphere { radius 2  material { colour marble { a rgb(1, 1, 1)  b rgb(0.1, 0.2, 0.6)  scale 0.1 } } }\n\
+         plane { normal <0, 0, 1>  offset -2  material { colour checker { a rgb(1, 0, 0)  b rgb(0, 1, 0)  scale 0.05 } } }\n",
+    );
+    let out = raytrace(&[
+        scene.as_os_str(),
+        "-o".as_ref(),
+        old.as_os_str(),
+        "--width".as_ref(),
+        "400".as_ref(),
+        "--height".as_ref(),
+        "400".as_ref(),
+    ]);
+    assert_refused(&out, "No space left on device");
+    assert_eq!(std::fs::read(&old).unwrap(), vec![7u8; 40 * 1024]);
+    let left: Vec<_> = std::fs::read_dir(&mnt).unwrap().collect();
+    assert_eq!(left.len(), 1, "a temporary was left behind: {left:?}");
+}
+
+/// A mistake on a very long line is shown as a short window around it, and
+/// a one-line sum of a million terms is refused at its 257th operator
+/// without building the sum first.
+#[test]
+fn a_mistake_on_a_huge_line_gives_a_short_report() {
+    let sum = format!("let a = {}\n", vec!["1"; 1_000_000].join("+"));
+    let mut typo = "camera { position <0, 0, 5>  look_at <0, 0, 0> }\n".to_owned();
+    typo.push_str(&"sphere { radius 1 } ".repeat(50_000));
+    typo.push_str("sphere { radiuss 2 } ");
+    typo.push_str(&"sphere { radius 1 } ".repeat(50_000));
+    for (src, expect, place) in [
+        (sum, "has more than 256 operators", "long.rt:1:522"),
+        (typo, "did you mean `radius`?", "long.rt:2:1000010"),
+    ] {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("long.rt");
+        std::fs::write(&path, src).unwrap();
+        let out = raytrace(&[path.as_os_str(), "--check".as_ref()]);
+        assert_refused(&out, expect);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains(place), "{err}");
+        assert!(err.len() < 2000, "{} bytes of report", err.len());
     }
 }
