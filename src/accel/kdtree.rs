@@ -18,6 +18,23 @@
 
 use crate::geometry::{Aabb, Ray};
 
+/// Traversal steps (nodes visited), counted in test builds only so that
+/// tests can measure a tree's quality without a cost in release.
+#[cfg(test)]
+pub(crate) mod counters {
+    use std::cell::Cell;
+    thread_local! {
+        pub static STEPS: Cell<u64> = const { Cell::new(0) };
+    }
+    #[inline]
+    pub fn step() {
+        STEPS.with(|c| c.set(c.get() + 1));
+    }
+    pub fn take() -> u64 {
+        STEPS.with(|c| c.replace(0))
+    }
+}
+
 /// Interior: `a = above_child << 2 | axis`, `b = split as f32 bits`; the
 /// child below the plane is the next node. Leaf: `a = count << 2 | 3`,
 /// `b = offset` into the item list.
@@ -123,8 +140,20 @@ impl Frame {
 /// costs a `match` per access, which the build does tens of millions of times.
 type Box6 = [[f64; 3]; 2];
 
+/// `clip(item, cell)`: the box around the part of the item inside `cell`,
+/// or `None` when the item misses it. It may be loose (a box too big costs
+/// only speed) but must never cut off any of the item.
+pub type Clip<'a> = &'a (dyn Fn(u32, &Aabb) -> Option<Aabb> + Sync);
+
+/// An item in a node under construction, with its box clipped to the node.
+#[derive(Clone, Copy)]
+struct Item {
+    b: Box6,
+    id: u32,
+}
+
 struct Builder<'a> {
-    boxes: &'a [Box6],
+    clip: Option<Clip<'a>>,
     nodes: Vec<Node>,
     items: Vec<u32>,
     stats: TreeStats,
@@ -140,22 +169,33 @@ impl KdTree {
     }
 
     pub fn build_with(boxes: &[Aabb], params: BuildParams) -> KdTree {
+        Self::build_inner(boxes, None, params)
+    }
+
+    /// Builds with "perfect splits" (Wald & Havran 2006): an item that
+    /// straddles a plane is clipped to each child's box, so the SAH sees the
+    /// true extent of what is in a node and an item that only grazes a
+    /// child's corner with its box is not referenced there at all.
+    pub fn build_clipped(boxes: &[Aabb], clip: Clip, params: BuildParams) -> KdTree {
+        Self::build_inner(boxes, Some(clip), params)
+    }
+
+    fn build_inner(boxes: &[Aabb], clip: Option<Clip>, params: BuildParams) -> KdTree {
         let start = std::time::Instant::now();
         let mut bounds = Aabb::EMPTY;
         let mut all = Vec::with_capacity(boxes.len());
         for (i, b) in boxes.iter().enumerate() {
             if !b.is_empty() && b.is_finite() {
                 bounds = bounds.union(b);
-                all.push(i as u32);
+                all.push(Item {
+                    b: [b.min.to_array(), b.max.to_array()],
+                    id: i as u32,
+                });
             }
         }
         let n = all.len().max(1) as f64;
-        let arrays: Vec<Box6> = boxes
-            .iter()
-            .map(|b| [b.min.to_array(), b.max.to_array()])
-            .collect();
         let mut b = Builder {
-            boxes: &arrays,
+            clip,
             nodes: Vec::with_capacity(2 * all.len() + 1),
             items: Vec::with_capacity(2 * all.len()),
             stats: TreeStats {
@@ -264,6 +304,8 @@ impl KdTree {
             debug_assert!(node < nodes.len());
             // SAFETY: the builder links only to nodes it pushed.
             let n = unsafe { *nodes.get_unchecked(node) };
+            #[cfg(test)]
+            counters::step();
             if !n.is_leaf() {
                 let axis = (n.a & 3) as usize;
                 let split = f32::from_bits(n.b) as f64;
@@ -328,9 +370,9 @@ impl KdTree {
 }
 
 impl Builder<'_> {
-    fn leaf(&mut self, items: &[u32], depth: usize) {
+    fn leaf(&mut self, items: &[Item], depth: usize) {
         self.nodes.push(Node::leaf(self.items.len(), items.len()));
-        self.items.extend_from_slice(items);
+        self.items.extend(items.iter().map(|it| it.id));
         let s = &mut self.stats;
         s.leaves += 1;
         s.empty_leaves += items.is_empty() as usize;
@@ -339,7 +381,7 @@ impl Builder<'_> {
         s.max_depth = s.max_depth.max(depth);
     }
 
-    fn node(&mut self, bounds: Aabb, items: Vec<u32>, depth: usize, bad_refines: u32) {
+    fn node(&mut self, bounds: Aabb, items: Vec<Item>, depth: usize, bad_refines: u32) {
         let n = items.len();
         if n <= 1 || depth >= self.max_depth {
             return self.leaf(&items, depth);
@@ -365,25 +407,48 @@ impl Builder<'_> {
         if (cost > 4.0 * leaf_cost && n < 16) || bad >= 3 {
             return self.leaf(&items, depth);
         }
-        let mut below_items = Vec::with_capacity(n);
-        let mut above_items = Vec::with_capacity(n);
-        for &i in &items {
-            let b = &self.boxes[i as usize];
-            let (lo, hi) = (b[0][axis], b[1][axis]);
-            let (goes_below, goes_above) = (lo < split, hi > split);
-            // A box flat in the plane itself goes to both sides.
-            if goes_below || !goes_above {
-                below_items.push(i);
-            }
-            if goes_above || !goes_below {
-                above_items.push(i);
-            }
-        }
-        drop(items);
         let mut below_box = bounds;
         below_box.max[axis] = split;
         let mut above_box = bounds;
         above_box.min[axis] = split;
+        // Counted first so that the lists are allocated at their size: they
+        // hold boxes, and the build's peak memory is the lists along the
+        // path being built.
+        let sides = |it: &Item| {
+            let (lo, hi) = (it.b[0][axis], it.b[1][axis]);
+            (lo < split, hi > split)
+        };
+        let (mut nb, mut na) = (0, 0);
+        for it in &items {
+            let (b, a) = sides(it);
+            // A box flat in the plane itself goes to both sides.
+            nb += (b || !a) as usize;
+            na += (a || !b) as usize;
+        }
+        let mut below_items = Vec::with_capacity(nb);
+        let mut above_items = Vec::with_capacity(na);
+        for it in items {
+            match sides(&it) {
+                (true, true) => {
+                    let mut b = it;
+                    b.b[1][axis] = split;
+                    if self.cut(&mut b, &below_box) {
+                        below_items.push(b);
+                    }
+                    let mut a = it;
+                    a.b[0][axis] = split;
+                    if self.cut(&mut a, &above_box) {
+                        above_items.push(a);
+                    }
+                }
+                (true, false) => below_items.push(it),
+                (false, true) => above_items.push(it),
+                (false, false) => {
+                    below_items.push(it);
+                    above_items.push(it);
+                }
+            }
+        }
         let at = self.nodes.len();
         self.nodes.push(Node { a: 0, b: 0 });
         if n >= PARALLEL_ABOVE {
@@ -404,6 +469,28 @@ impl Builder<'_> {
         }
     }
 
+    /// Narrows a straddling item's box to the part of the item in `cell`
+    /// (already cut at the plane); false when nothing of the item is there.
+    #[inline]
+    fn cut(&self, it: &mut Item, cell: &Aabb) -> bool {
+        let Some(clip) = self.clip else {
+            return true;
+        };
+        let Some(c) = clip(it.id, cell) else {
+            return false;
+        };
+        let (cmin, cmax) = (c.min.to_array(), c.max.to_array());
+        for k in 0..3 {
+            let (lo, hi) = (it.b[0][k].max(cmin[k]), it.b[1][k].min(cmax[k]));
+            // Both boxes hold all of the item in the cell, so they meet
+            // unless the item only touches the cell within rounding: then
+            // trust the clipped box.
+            it.b[0][k] = if lo <= hi { lo } else { cmin[k] };
+            it.b[1][k] = if lo <= hi { hi } else { cmax[k] };
+        }
+        true
+    }
+
     fn set_interior(&mut self, at: usize, axis: usize, split: f64) {
         let above = self.nodes.len() as u32;
         self.nodes[at] = Node {
@@ -414,7 +501,7 @@ impl Builder<'_> {
 
     fn fork(&self) -> Self {
         Builder {
-            boxes: self.boxes,
+            clip: self.clip,
             nodes: Vec::new(),
             items: Vec::new(),
             stats: TreeStats::default(),
@@ -467,7 +554,7 @@ impl Builder<'_> {
 
     /// The best plane among `BINS - 1` evenly spaced ones per axis, counting
     /// items by the bins their (clipped) boxes start and end in.
-    fn binned_split(&self, bounds: &Aabb, items: &[u32]) -> Option<(f64, usize, f64)> {
+    fn binned_split(&self, bounds: &Aabb, items: &[Item]) -> Option<(f64, usize, f64)> {
         let n = items.len();
         let f = Frame::new(bounds);
         let ext = bounds.extent().to_array();
@@ -485,8 +572,8 @@ impl Builder<'_> {
             // SAFETY: `c` is finite and in 0..BINS.
             unsafe { c.to_int_unchecked::<u32>() as usize }
         };
-        for &i in items {
-            let [lo, hi] = &self.boxes[i as usize];
+        for it in items {
+            let [lo, hi] = &it.b;
             for axis in 0..3 {
                 lo_count[axis][bin((lo[axis] - bmin[axis]) * scale[axis])] += 1;
                 hi_count[axis][bin((hi[axis] - bmin[axis]) * scale[axis])] += 1;
@@ -515,7 +602,7 @@ impl Builder<'_> {
 
     /// The best plane among the items' own box faces (exact SAH), for small
     /// nodes where that is cheaper than binning and finds tight planes.
-    fn exact_split(&self, bounds: &Aabb, items: &[u32]) -> Option<(f64, usize, f64)> {
+    fn exact_split(&self, bounds: &Aabb, items: &[Item]) -> Option<(f64, usize, f64)> {
         let n = items.len();
         let f = Frame::new(bounds);
         let mut best: Option<(f64, usize, f64)> = None;
@@ -526,8 +613,8 @@ impl Builder<'_> {
             if bmax.is_nan() || bmax <= bmin {
                 continue;
             }
-            for (k, &i) in items.iter().enumerate() {
-                let b = &self.boxes[i as usize];
+            for (k, it) in items.iter().enumerate() {
+                let b = &it.b;
                 // Rounded as the stored plane will be.
                 mins[k] = b[0][axis] as f32 as f64;
                 maxs[k] = b[1][axis] as f32 as f64;
