@@ -15,6 +15,12 @@
 //! starts beyond it. A ray parallel to a
 //! split plane (zero direction component) goes only to the side its origin
 //! is on, or to both when it lies in the plane.
+//!
+//! `build_clipped` makes "perfect splits": the caller clips an item to a
+//! cell (a mesh clips the triangle itself), so an item straddling a plane
+//! is binned with its true extent on each side, and dropped from a side it
+//! only reaches with its box. The mesh uses that with SAH constants
+//! measured on the bunny's rays (see `shapes::mesh::MESH_TREE`).
 
 use crate::geometry::{Aabb, Ray};
 
@@ -293,7 +299,10 @@ impl KdTree {
         // a `match` per access on the hottest path of the renderer.
         let inv = ray.dir.recip().to_array();
         let origin = ray.origin.to_array();
-        let dir = ray.dir.to_array();
+        // The child below a plane comes first unless the ray goes down the
+        // axis; by the sign bit, so that -0 goes with the negatives, as its
+        // reciprocal -inf does.
+        let toward_below = ray.dir.to_array().map(|d| !d.is_sign_negative());
         let nodes = self.nodes.as_slice();
         // Not zeroed per ray: every slot is written before it is read.
         let mut stack = [std::mem::MaybeUninit::<(u32, f64, f64)>::uninit(); STACK];
@@ -309,23 +318,15 @@ impl KdTree {
             if !n.is_leaf() {
                 let axis = (n.a & 3) as usize;
                 let split = f32::from_bits(n.b) as f64;
-                let (o, d, iv) = (origin[axis], dir[axis], inv[axis]);
+                let (o, iv) = (origin[axis], inv[axis]);
                 let below = node + 1;
                 let above = (n.a >> 2) as usize;
-                if d == 0.0 {
-                    if o < split {
-                        node = below;
-                    } else if o > split {
-                        node = above;
-                    } else {
-                        stack[sp].write((above as u32, lo, hi));
-                        sp += 1;
-                        node = below;
-                    }
-                    continue;
-                }
+                // A zero direction component needs no branch of its own:
+                // its reciprocal is ±inf, so `tp` is ±inf and picks the
+                // origin's side, or NaN for a ray in the plane, which fails
+                // both tests below and visits both sides (see the push).
                 let tp = (split - o) * iv;
-                let (first, second) = if d > 0.0 {
+                let (first, second) = if toward_below[axis] {
                     (below, above)
                 } else {
                     (above, below)
@@ -335,10 +336,12 @@ impl KdTree {
                 } else if tp < lo {
                     node = second;
                 } else {
-                    stack[sp].write((second as u32, tp, hi));
+                    // `max` and `min` drop a NaN `tp`: both sides then get
+                    // the whole segment.
+                    stack[sp].write((second as u32, tp.max(lo), hi));
                     sp += 1;
                     node = first;
-                    hi = tp;
+                    hi = tp.min(hi);
                 }
                 continue;
             }
