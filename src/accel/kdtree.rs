@@ -146,10 +146,11 @@ impl Frame {
 /// costs a `match` per access, which the build does tens of millions of times.
 type Box6 = [[f64; 3]; 2];
 
-/// `clip(item, cell)`: the box around the part of the item inside `cell`,
-/// or `None` when the item misses it. It may be loose (a box too big costs
-/// only speed) but must never cut off any of the item.
-pub type Clip<'a> = &'a (dyn Fn(u32, &Aabb) -> Option<Aabb> + Sync);
+/// `clip(item, cell, axis, split)`: the boxes around the parts of the item
+/// inside `cell` below and above the plane `split` on `axis`, `None` for a
+/// side the item misses. They may be loose (a box too big costs only speed)
+/// but must never cut off any of the item.
+pub type Clip<'a> = &'a (dyn Fn(u32, &Aabb, usize, f64) -> [Option<Aabb>; 2] + Sync);
 
 /// An item in a node under construction, with its box clipped to the node.
 #[derive(Clone, Copy)]
@@ -433,14 +434,19 @@ impl Builder<'_> {
         for it in items {
             match sides(&it) {
                 (true, true) => {
-                    let mut b = it;
+                    let (mut b, mut a) = (it, it);
                     b.b[1][axis] = split;
-                    if self.cut(&mut b, &below_box) {
+                    a.b[0][axis] = split;
+                    let [cb, ca] = match self.clip {
+                        Some(clip) => clip(it.id, &bounds, axis, split).map(|c| c.map(Some)),
+                        None => [Some(None), Some(None)],
+                    };
+                    if let Some(c) = cb {
+                        narrow(&mut b, c);
                         below_items.push(b);
                     }
-                    let mut a = it;
-                    a.b[0][axis] = split;
-                    if self.cut(&mut a, &above_box) {
+                    if let Some(c) = ca {
+                        narrow(&mut a, c);
                         above_items.push(a);
                     }
                 }
@@ -470,28 +476,6 @@ impl Builder<'_> {
             self.set_interior(at, axis, split);
             self.node(above_box, above_items, depth + 1, bad);
         }
-    }
-
-    /// Narrows a straddling item's box to the part of the item in `cell`
-    /// (already cut at the plane); false when nothing of the item is there.
-    #[inline]
-    fn cut(&self, it: &mut Item, cell: &Aabb) -> bool {
-        let Some(clip) = self.clip else {
-            return true;
-        };
-        let Some(c) = clip(it.id, cell) else {
-            return false;
-        };
-        let (cmin, cmax) = (c.min.to_array(), c.max.to_array());
-        for k in 0..3 {
-            let (lo, hi) = (it.b[0][k].max(cmin[k]), it.b[1][k].min(cmax[k]));
-            // Both boxes hold all of the item in the cell, so they meet
-            // unless the item only touches the cell within rounding: then
-            // trust the clipped box.
-            it.b[0][k] = if lo <= hi { lo } else { cmin[k] };
-            it.b[1][k] = if lo <= hi { hi } else { cmax[k] };
-        }
-        true
     }
 
     fn set_interior(&mut self, at: usize, axis: usize, split: f64) {
@@ -653,6 +637,22 @@ impl Builder<'_> {
             }
         }
         best
+    }
+}
+
+/// Narrows a straddling item's box (already cut at the plane) to the box
+/// the caller's clipping found for its part on that side, if any.
+#[inline]
+fn narrow(it: &mut Item, clipped: Option<Aabb>) {
+    let Some(c) = clipped else { return };
+    let (cmin, cmax) = (c.min.to_array(), c.max.to_array());
+    for k in 0..3 {
+        let (lo, hi) = (it.b[0][k].max(cmin[k]), it.b[1][k].min(cmax[k]));
+        // Both boxes hold all of the item in the cell, so they meet
+        // unless the item only touches the cell within rounding: then
+        // trust the clipped box.
+        it.b[0][k] = if lo <= hi { lo } else { cmin[k] };
+        it.b[1][k] = if lo <= hi { hi } else { cmax[k] };
     }
 }
 

@@ -155,9 +155,9 @@ impl MeshData {
             .iter()
             .map(|t| Aabb::new(corner(t, 0), corner(t, 1)).grow(corner(t, 2)))
             .collect();
-        let clip = |i: u32, cell: &Aabb| {
+        let clip = |i: u32, cell: &Aabb, axis: usize, split: f64| {
             let t = &triangles[i as usize];
-            clip_triangle([0, 1, 2].map(|k| corner(t, k)), cell)
+            split_triangle([0, 1, 2].map(|k| corner(t, k)), cell, axis, split)
         };
         // The tree's first levels run on one thread: the rest of the set-up
         // (the edge sort of `is_closed` above all) fills the other.
@@ -269,16 +269,21 @@ impl MeshData {
     }
 }
 
-/// The box around the part of a triangle inside `cell`, or `None` when it
-/// misses the cell (Sutherland–Hodgman against the cell's six planes). The
-/// clipping is done against the cell grown by a hair, and a triangle that
-/// comes that close is kept (its box pressed onto the cell's face), so that
+/// The boxes around the parts of a triangle inside `cell` below and above
+/// the plane `split` on `axis` (`None` for a side it misses): the triangle
+/// is clipped to the cell (Sutherland–Hodgman against the planes it
+/// crosses), and the polygon left is cut at the split plane. The clipping
+/// is done against planes moved out by a hair, and a triangle that comes
+/// that close is kept (its box pressed onto the cell's face), so that
 /// rounding here or in the ray test can never lose a triangle from a cell
 /// where the ray finds it.
-fn clip_triangle(tri: [DVec3; 3], cell: &Aabb) -> Option<Aabb> {
+fn split_triangle(tri: [DVec3; 3], cell: &Aabb, axis: usize, split: f64) -> [Option<Aabb>; 2] {
     let size = cell.min.abs().max(cell.max.abs()).max_element() + cell.extent().max_element();
-    let pad = DVec3::splat(size * 1e-9);
-    let (lo, hi) = ((cell.min - pad).to_array(), (cell.max + pad).to_array());
+    let pad = size * 1e-9;
+    let (lo, hi) = (
+        (cell.min - DVec3::splat(pad)).to_array(),
+        (cell.max + DVec3::splat(pad)).to_array(),
+    );
     let (tmin, tmax) = (
         tri[0].min(tri[1]).min(tri[2]).to_array(),
         tri[0].max(tri[1]).max(tri[2]).to_array(),
@@ -291,22 +296,15 @@ fn clip_triangle(tri: [DVec3; 3], cell: &Aabb) -> Option<Aabb> {
         *p = v.to_array();
     }
     let (mut n, mut cur) = (3, 0);
-    for axis in 0..3 {
-        if tmax[axis] < lo[axis] || tmin[axis] > hi[axis] {
-            return None;
+    for a in 0..3 {
+        if tmax[a] < lo[a] || tmin[a] > hi[a] {
+            return [None, None];
         }
-        for (plane, keep_above) in [(lo[axis], true), (hi[axis], false)] {
+        for (plane, keep_above) in [(lo[a], true), (hi[a], false)] {
             // Only the planes the triangle crosses can cut it.
-            if (keep_above && tmin[axis] >= plane) || (!keep_above && tmax[axis] <= plane) {
+            if (keep_above && tmin[a] >= plane) || (!keep_above && tmax[a] <= plane) {
                 continue;
             }
-            let inside = |p: &[f64; 3]| {
-                if keep_above {
-                    p[axis] >= plane
-                } else {
-                    p[axis] <= plane
-                }
-            };
             let [a_buf, b_buf] = &mut bufs;
             let (src, dst) = if cur == 0 {
                 (&*a_buf, b_buf)
@@ -314,42 +312,75 @@ fn clip_triangle(tri: [DVec3; 3], cell: &Aabb) -> Option<Aabb> {
                 (&*b_buf, a_buf)
             };
             let mut m = 0;
-            for k in 0..n {
-                let (a, b) = (src[k], src[if k + 1 == n { 0 } else { k + 1 }]);
-                let (ia, ib) = (inside(&a), inside(&b));
-                if ia {
-                    dst[m] = a;
-                    m += 1;
-                }
-                if ia != ib {
-                    let s = (plane - a[axis]) / (b[axis] - a[axis]);
-                    let mut c = [0f64; 3];
-                    for j in 0..3 {
-                        c[j] = a[j] + s * (b[j] - a[j]);
-                    }
-                    c[axis] = plane;
-                    dst[m] = c;
-                    m += 1;
-                }
-            }
+            half_space(&src[..n], a, plane, keep_above, |p| {
+                dst[m] = p;
+                m += 1;
+            });
             if m == 0 {
-                return None;
+                return [None, None];
             }
             n = m;
             cur ^= 1;
         }
     }
-    let (mut bmin, mut bmax) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-    for p in &bufs[cur][..n] {
-        for j in 0..3 {
-            bmin[j] = bmin[j].min(p[j]);
-            bmax[j] = bmax[j].max(p[j]);
+    let poly = &bufs[cur][..n];
+    let side = |keep_above: bool, plane: f64, child: &Aabb| {
+        let (mut bmin, mut bmax) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+        half_space(poly, axis, plane, keep_above, |p| {
+            for j in 0..3 {
+                bmin[j] = bmin[j].min(p[j]);
+                bmax[j] = bmax[j].max(p[j]);
+            }
+        });
+        (bmin[0] <= bmax[0]).then(|| Aabb {
+            min: DVec3::from_array(bmin).clamp(child.min, child.max),
+            max: DVec3::from_array(bmax).clamp(child.min, child.max),
+        })
+    };
+    let (mut below, mut above) = (*cell, *cell);
+    below.max[axis] = split;
+    above.min[axis] = split;
+    [
+        side(false, split + pad, &below),
+        side(true, split - pad, &above),
+    ]
+}
+
+/// One step of Sutherland–Hodgman: the corners of the convex polygon
+/// `poly` on one side of the plane at `plane` on `axis` (inclusive), in
+/// order, passed to `out`.
+#[inline]
+fn half_space(
+    poly: &[[f64; 3]],
+    axis: usize,
+    plane: f64,
+    keep_above: bool,
+    mut out: impl FnMut([f64; 3]),
+) {
+    let inside = |p: &[f64; 3]| {
+        if keep_above {
+            p[axis] >= plane
+        } else {
+            p[axis] <= plane
+        }
+    };
+    let n = poly.len();
+    for k in 0..n {
+        let (a, b) = (poly[k], poly[if k + 1 == n { 0 } else { k + 1 }]);
+        let (ia, ib) = (inside(&a), inside(&b));
+        if ia {
+            out(a);
+        }
+        if ia != ib {
+            let s = (plane - a[axis]) / (b[axis] - a[axis]);
+            let mut c = [0f64; 3];
+            for j in 0..3 {
+                c[j] = a[j] + s * (b[j] - a[j]);
+            }
+            c[axis] = plane;
+            out(c);
         }
     }
-    Some(Aabb {
-        min: DVec3::from_array(bmin).clamp(cell.min, cell.max),
-        max: DVec3::from_array(bmax).clamp(cell.min, cell.max),
-    })
 }
 
 /// Each vertex gets the sum of its triangles' unnormalised normals
