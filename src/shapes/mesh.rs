@@ -788,6 +788,78 @@ mod tests {
         assert!(s.references < 5 * s.items, "{s:?}");
     }
 
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(300))]
+        /// The kd-tree may drop a triangle from a cell only if none of it
+        /// is there: every point of the triangle inside the cell must lie
+        /// in the box given for its side of the plane.
+        #[test]
+        fn split_triangle_keeps_every_point_in_the_cell(
+            corners in proptest::array::uniform9(-2.0f64..2.0),
+            axis in 0usize..3,
+            at in 0.0f64..1.0,
+        ) {
+            let c = corners;
+            let tri = [
+                DVec3::new(c[0], c[1], c[2]),
+                DVec3::new(c[3], c[4], c[5]),
+                DVec3::new(c[6], c[7], c[8]),
+            ];
+            let cell = Aabb::new(DVec3::new(-1.0, -0.5, -1.0), DVec3::new(1.0, 0.5, 0.25));
+            let split = cell.min[axis] + at * cell.extent()[axis];
+            let sides = split_triangle(tri, &cell, axis, split);
+            let mut inside = [0, 0];
+            for i in 0..=40 {
+                for j in 0..=(40 - i) {
+                    let (u, v) = (i as f64 / 40.0, j as f64 / 40.0);
+                    let p = tri[0] + u * (tri[1] - tri[0]) + v * (tri[2] - tri[0]);
+                    if !cell.contains(p) {
+                        continue;
+                    }
+                    for (k, below) in [(0, true), (1, false)] {
+                        if (below && p[axis] <= split) || (!below && p[axis] >= split) {
+                            inside[k] += 1;
+                            let b = sides[k];
+                            prop_assert!(b.is_some(), "side {k} dropped, {p}");
+                            let b = b.unwrap();
+                            let grown = Aabb::new(b.min - DVec3::splat(1e-12), b.max + DVec3::splat(1e-12));
+                            prop_assert!(grown.contains(p), "{p} outside {b:?}");
+                        }
+                    }
+                }
+            }
+            // A box given must lie in its half of the cell.
+            for (k, b) in sides.iter().enumerate() {
+                if let Some(b) = b {
+                    prop_assert!(cell.contains(b.min) && cell.contains(b.max));
+                    let in_half = if k == 0 { b.max[axis] <= split } else { b.min[axis] >= split };
+                    prop_assert!(in_half, "side {} box {:?}", k, b);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn split_triangle_tightens_and_drops() {
+        let cell = Aabb::new(DVec3::ZERO, DVec3::ONE);
+        // A big triangle over the cell's corner at the origin, cut at x = 0.5:
+        // the cell holds only a small part of it, all in the lower half.
+        let tri = [
+            DVec3::new(-1.0, -1.0, 0.5),
+            DVec3::new(1.2, -1.0, 0.5),
+            DVec3::new(-1.0, 1.2, 0.5),
+        ];
+        let [below, above] = split_triangle(tri, &cell, 0, 0.5);
+        let b = below.expect("the corner is in the lower half");
+        assert!(above.is_none(), "{above:?}");
+        assert!(b.max.x < 0.21 && b.max.y < 0.21, "{b:?}");
+        assert!((b.min.z - 0.5).abs() < 1e-9 && (b.max.z - 0.5).abs() < 1e-9);
+        // Its box overlaps the cell but the triangle does not reach it.
+        let far = tri.map(|p| p - DVec3::new(0.3, 0.3, 0.0));
+        assert!(Aabb::new(far[1], far[2]).intersection(&cell).area() > 0.0);
+        assert_eq!(split_triangle(far, &cell, 1, 0.5), [None, None]);
+    }
+
     fn soup(seed: u64, n: usize) -> MeshData {
         let mut s = seed | 1;
         let mut rnd = move || {
