@@ -148,16 +148,19 @@ impl Frame {
 /// moves these boxes around in every node, so half the bytes is a faster build.
 type Box6 = [[f32; 3]; 2];
 
+#[inline]
 fn round_down(x: f64) -> f32 {
     let f = x as f32;
     if f as f64 > x { f.next_down() } else { f }
 }
 
+#[inline]
 fn round_up(x: f64) -> f32 {
     let f = x as f32;
     if (f as f64) < x { f.next_up() } else { f }
 }
 
+#[inline]
 fn box6(b: &Aabb) -> Box6 {
     [
         b.min.to_array().map(round_down),
@@ -565,7 +568,9 @@ impl Builder<'_> {
         let n = items.len();
         let f = Frame::new(bounds);
         let ext = bounds.extent().to_array();
-        let mut best: Option<(f64, usize, f64)> = None;
+        let mut best: Option<(usize, f64)> = None;
+        let mut best_sah = f64::INFINITY;
+        let empty_scale = 1.0 - self.params.empty_bonus;
         // One pass over the items for all three axes.
         let mut lo_count = [[0u32; BINS]; 3];
         let mut hi_count = [[0u32; BINS]; 3];
@@ -591,18 +596,28 @@ impl Builder<'_> {
             if w.is_nan() || w <= 0.0 {
                 continue;
             }
+            // `cost` without its constant terms, so that the sweep (a tenth
+            // of the whole build) is a few multiplications per plane.
+            let (cap, ring, lo, hi) = (f.cap[axis], f.ring[axis], f.min[axis], f.max[axis]);
             let (mut below, mut above) = (0usize, n);
             for k in 1..BINS {
                 below += lo_count[axis][k - 1] as usize;
                 above -= hi_count[axis][k - 1] as usize;
-                let split = bmin[axis] + w * k as f64 / BINS as f64;
-                let cost = self.cost(&f, axis, split, below, above);
-                if best.is_none_or(|(c, _, _)| cost < c) {
-                    best = Some((cost, axis, split));
+                let split = bmin[axis] + w * k as f64 * (1.0 / BINS as f64);
+                let area_b = cap + (split - lo) * ring;
+                let area_a = cap + (hi - split) * ring;
+                let mut sah = area_b * below as f64 + area_a * above as f64;
+                if below == 0 || above == 0 {
+                    sah *= empty_scale;
+                }
+                if sah < best_sah {
+                    best_sah = sah;
+                    best = Some((axis, split));
                 }
             }
         }
-        let (cost, axis, split) = best?;
+        let (axis, split) = best?;
+        let cost = TRAVERSAL_COST + self.params.item_cost * best_sah * f.inv_half_area;
         let split = split as f32 as f64;
         (split > bounds.min[axis] && split < bounds.max[axis]).then_some((cost, axis, split))
     }
