@@ -15,8 +15,31 @@
 //! starts beyond it. A ray parallel to a
 //! split plane (zero direction component) goes only to the side its origin
 //! is on, or to both when it lies in the plane.
+//!
+//! `build_clipped` makes "perfect splits": the caller clips an item to a
+//! cell (a mesh clips the triangle itself), so an item straddling a plane
+//! is binned with its true extent on each side, and dropped from a side it
+//! only reaches with its box. The mesh uses that with SAH constants
+//! measured on the bunny's rays (see `shapes::mesh::MESH_TREE`).
 
 use crate::geometry::{Aabb, Ray};
+
+/// Traversal steps (nodes visited), counted in test builds only so that
+/// tests can measure a tree's quality without a cost in release.
+#[cfg(test)]
+pub(crate) mod counters {
+    use std::cell::Cell;
+    thread_local! {
+        pub static STEPS: Cell<u64> = const { Cell::new(0) };
+    }
+    #[inline]
+    pub fn step() {
+        STEPS.with(|c| c.set(c.get() + 1));
+    }
+    pub fn take() -> u64 {
+        STEPS.with(|c| c.replace(0))
+    }
+}
 
 /// Interior: `a = above_child << 2 | axis`, `b = split as f32 bits`; the
 /// child below the plane is the next node. Leaf: `a = count << 2 | 3`,
@@ -121,10 +144,45 @@ impl Frame {
 
 /// A box as plain arrays: indexing glam's vectors by a run-time axis
 /// costs a `match` per access, which the build does tens of millions of times.
-type Box6 = [[f64; 3]; 2];
+/// In `f32`, rounded outwards: the planes are `f32` anyway, and the build
+/// moves these boxes around in every node, so half the bytes is a faster build.
+type Box6 = [[f32; 3]; 2];
+
+#[inline]
+fn round_down(x: f64) -> f32 {
+    let f = x as f32;
+    if f as f64 > x { f.next_down() } else { f }
+}
+
+#[inline]
+fn round_up(x: f64) -> f32 {
+    let f = x as f32;
+    if (f as f64) < x { f.next_up() } else { f }
+}
+
+#[inline]
+fn box6(b: &Aabb) -> Box6 {
+    [
+        b.min.to_array().map(round_down),
+        b.max.to_array().map(round_up),
+    ]
+}
+
+/// `clip(item, cell, axis, split)`: the boxes around the parts of the item
+/// inside `cell` below and above the plane `split` on `axis`, `None` for a
+/// side the item misses. They may be loose (a box too big costs only speed)
+/// but must never cut off any of the item.
+pub type Clip<'a> = &'a (dyn Fn(u32, &Aabb, usize, f64) -> [Option<Aabb>; 2] + Sync);
+
+/// An item in a node under construction, with its box clipped to the node.
+#[derive(Clone, Copy)]
+struct Item {
+    b: Box6,
+    id: u32,
+}
 
 struct Builder<'a> {
-    boxes: &'a [Box6],
+    clip: Option<Clip<'a>>,
     nodes: Vec<Node>,
     items: Vec<u32>,
     stats: TreeStats,
@@ -140,22 +198,33 @@ impl KdTree {
     }
 
     pub fn build_with(boxes: &[Aabb], params: BuildParams) -> KdTree {
+        Self::build_inner(boxes, None, params)
+    }
+
+    /// Builds with "perfect splits" (Wald & Havran 2006): an item that
+    /// straddles a plane is clipped to each child's box, so the SAH sees the
+    /// true extent of what is in a node and an item that only grazes a
+    /// child's corner with its box is not referenced there at all.
+    pub fn build_clipped(boxes: &[Aabb], clip: Clip, params: BuildParams) -> KdTree {
+        Self::build_inner(boxes, Some(clip), params)
+    }
+
+    fn build_inner(boxes: &[Aabb], clip: Option<Clip>, params: BuildParams) -> KdTree {
         let start = std::time::Instant::now();
         let mut bounds = Aabb::EMPTY;
         let mut all = Vec::with_capacity(boxes.len());
         for (i, b) in boxes.iter().enumerate() {
             if !b.is_empty() && b.is_finite() {
                 bounds = bounds.union(b);
-                all.push(i as u32);
+                all.push(Item {
+                    b: box6(b),
+                    id: i as u32,
+                });
             }
         }
         let n = all.len().max(1) as f64;
-        let arrays: Vec<Box6> = boxes
-            .iter()
-            .map(|b| [b.min.to_array(), b.max.to_array()])
-            .collect();
         let mut b = Builder {
-            boxes: &arrays,
+            clip,
             nodes: Vec::with_capacity(2 * all.len() + 1),
             items: Vec::with_capacity(2 * all.len()),
             stats: TreeStats {
@@ -253,7 +322,10 @@ impl KdTree {
         // a `match` per access on the hottest path of the renderer.
         let inv = ray.dir.recip().to_array();
         let origin = ray.origin.to_array();
-        let dir = ray.dir.to_array();
+        // The child below a plane comes first unless the ray goes down the
+        // axis; by the sign bit, so that -0 goes with the negatives, as its
+        // reciprocal -inf does.
+        let toward_below = ray.dir.to_array().map(|d| !d.is_sign_negative());
         let nodes = self.nodes.as_slice();
         // Not zeroed per ray: every slot is written before it is read.
         let mut stack = [std::mem::MaybeUninit::<(u32, f64, f64)>::uninit(); STACK];
@@ -264,26 +336,20 @@ impl KdTree {
             debug_assert!(node < nodes.len());
             // SAFETY: the builder links only to nodes it pushed.
             let n = unsafe { *nodes.get_unchecked(node) };
+            #[cfg(test)]
+            counters::step();
             if !n.is_leaf() {
                 let axis = (n.a & 3) as usize;
                 let split = f32::from_bits(n.b) as f64;
-                let (o, d, iv) = (origin[axis], dir[axis], inv[axis]);
+                let (o, iv) = (origin[axis], inv[axis]);
                 let below = node + 1;
                 let above = (n.a >> 2) as usize;
-                if d == 0.0 {
-                    if o < split {
-                        node = below;
-                    } else if o > split {
-                        node = above;
-                    } else {
-                        stack[sp].write((above as u32, lo, hi));
-                        sp += 1;
-                        node = below;
-                    }
-                    continue;
-                }
+                // A zero direction component needs no branch of its own:
+                // its reciprocal is ±inf, so `tp` is ±inf and picks the
+                // origin's side, or NaN for a ray in the plane, which fails
+                // both tests below and visits both sides (see the push).
                 let tp = (split - o) * iv;
-                let (first, second) = if d > 0.0 {
+                let (first, second) = if toward_below[axis] {
                     (below, above)
                 } else {
                     (above, below)
@@ -293,10 +359,12 @@ impl KdTree {
                 } else if tp < lo {
                     node = second;
                 } else {
-                    stack[sp].write((second as u32, tp, hi));
+                    // `max` and `min` drop a NaN `tp`: both sides then get
+                    // the whole segment.
+                    stack[sp].write((second as u32, tp.max(lo), hi));
                     sp += 1;
                     node = first;
-                    hi = tp;
+                    hi = tp.min(hi);
                 }
                 continue;
             }
@@ -328,9 +396,9 @@ impl KdTree {
 }
 
 impl Builder<'_> {
-    fn leaf(&mut self, items: &[u32], depth: usize) {
+    fn leaf(&mut self, items: &[Item], depth: usize) {
         self.nodes.push(Node::leaf(self.items.len(), items.len()));
-        self.items.extend_from_slice(items);
+        self.items.extend(items.iter().map(|it| it.id));
         let s = &mut self.stats;
         s.leaves += 1;
         s.empty_leaves += items.is_empty() as usize;
@@ -339,7 +407,7 @@ impl Builder<'_> {
         s.max_depth = s.max_depth.max(depth);
     }
 
-    fn node(&mut self, bounds: Aabb, items: Vec<u32>, depth: usize, bad_refines: u32) {
+    fn node(&mut self, bounds: Aabb, items: Vec<Item>, depth: usize, bad_refines: u32) {
         let n = items.len();
         if n <= 1 || depth >= self.max_depth {
             return self.leaf(&items, depth);
@@ -365,25 +433,54 @@ impl Builder<'_> {
         if (cost > 4.0 * leaf_cost && n < 16) || bad >= 3 {
             return self.leaf(&items, depth);
         }
-        let mut below_items = Vec::with_capacity(n);
-        let mut above_items = Vec::with_capacity(n);
-        for &i in &items {
-            let b = &self.boxes[i as usize];
-            let (lo, hi) = (b[0][axis], b[1][axis]);
-            let (goes_below, goes_above) = (lo < split, hi > split);
-            // A box flat in the plane itself goes to both sides.
-            if goes_below || !goes_above {
-                below_items.push(i);
-            }
-            if goes_above || !goes_below {
-                above_items.push(i);
-            }
-        }
-        drop(items);
         let mut below_box = bounds;
         below_box.max[axis] = split;
         let mut above_box = bounds;
         above_box.min[axis] = split;
+        // Counted first so that the lists are allocated at their size: they
+        // hold boxes, and the build's peak memory is the lists along the
+        // path being built.
+        let sides = |it: &Item| {
+            let (lo, hi) = (it.b[0][axis] as f64, it.b[1][axis] as f64);
+            (lo < split, hi > split)
+        };
+        let (mut nb, mut na) = (0, 0);
+        for it in &items {
+            let (b, a) = sides(it);
+            // A box flat in the plane itself goes to both sides.
+            nb += (b || !a) as usize;
+            na += (a || !b) as usize;
+        }
+        let mut below_items = Vec::with_capacity(nb);
+        let mut above_items = Vec::with_capacity(na);
+        for it in items {
+            match sides(&it) {
+                (true, true) => {
+                    let (mut b, mut a) = (it, it);
+                    // Exact: the plane is an `f32`.
+                    b.b[1][axis] = split as f32;
+                    a.b[0][axis] = split as f32;
+                    let [cb, ca] = match self.clip {
+                        Some(clip) => clip(it.id, &bounds, axis, split).map(|c| c.map(Some)),
+                        None => [Some(None), Some(None)],
+                    };
+                    if let Some(c) = cb {
+                        narrow(&mut b, c);
+                        below_items.push(b);
+                    }
+                    if let Some(c) = ca {
+                        narrow(&mut a, c);
+                        above_items.push(a);
+                    }
+                }
+                (true, false) => below_items.push(it),
+                (false, true) => above_items.push(it),
+                (false, false) => {
+                    below_items.push(it);
+                    above_items.push(it);
+                }
+            }
+        }
         let at = self.nodes.len();
         self.nodes.push(Node { a: 0, b: 0 });
         if n >= PARALLEL_ABOVE {
@@ -414,7 +511,7 @@ impl Builder<'_> {
 
     fn fork(&self) -> Self {
         Builder {
-            boxes: self.boxes,
+            clip: self.clip,
             nodes: Vec::new(),
             items: Vec::new(),
             stats: TreeStats::default(),
@@ -467,11 +564,13 @@ impl Builder<'_> {
 
     /// The best plane among `BINS - 1` evenly spaced ones per axis, counting
     /// items by the bins their (clipped) boxes start and end in.
-    fn binned_split(&self, bounds: &Aabb, items: &[u32]) -> Option<(f64, usize, f64)> {
+    fn binned_split(&self, bounds: &Aabb, items: &[Item]) -> Option<(f64, usize, f64)> {
         let n = items.len();
         let f = Frame::new(bounds);
         let ext = bounds.extent().to_array();
-        let mut best: Option<(f64, usize, f64)> = None;
+        let mut best: Option<(usize, f64)> = None;
+        let mut best_sah = f64::INFINITY;
+        let empty_scale = 1.0 - self.params.empty_bonus;
         // One pass over the items for all three axes.
         let mut lo_count = [[0u32; BINS]; 3];
         let mut hi_count = [[0u32; BINS]; 3];
@@ -485,8 +584,8 @@ impl Builder<'_> {
             // SAFETY: `c` is finite and in 0..BINS.
             unsafe { c.to_int_unchecked::<u32>() as usize }
         };
-        for &i in items {
-            let [lo, hi] = &self.boxes[i as usize];
+        for it in items {
+            let [lo, hi] = it.b.map(|c| c.map(f64::from));
             for axis in 0..3 {
                 lo_count[axis][bin((lo[axis] - bmin[axis]) * scale[axis])] += 1;
                 hi_count[axis][bin((hi[axis] - bmin[axis]) * scale[axis])] += 1;
@@ -497,25 +596,35 @@ impl Builder<'_> {
             if w.is_nan() || w <= 0.0 {
                 continue;
             }
+            // `cost` without its constant terms, so that the sweep (a tenth
+            // of the whole build) is a few multiplications per plane.
+            let (cap, ring, lo, hi) = (f.cap[axis], f.ring[axis], f.min[axis], f.max[axis]);
             let (mut below, mut above) = (0usize, n);
             for k in 1..BINS {
                 below += lo_count[axis][k - 1] as usize;
                 above -= hi_count[axis][k - 1] as usize;
-                let split = bmin[axis] + w * k as f64 / BINS as f64;
-                let cost = self.cost(&f, axis, split, below, above);
-                if best.is_none_or(|(c, _, _)| cost < c) {
-                    best = Some((cost, axis, split));
+                let split = bmin[axis] + w * k as f64 * (1.0 / BINS as f64);
+                let area_b = cap + (split - lo) * ring;
+                let area_a = cap + (hi - split) * ring;
+                let mut sah = area_b * below as f64 + area_a * above as f64;
+                if below == 0 || above == 0 {
+                    sah *= empty_scale;
+                }
+                if sah < best_sah {
+                    best_sah = sah;
+                    best = Some((axis, split));
                 }
             }
         }
-        let (cost, axis, split) = best?;
+        let (axis, split) = best?;
+        let cost = TRAVERSAL_COST + self.params.item_cost * best_sah * f.inv_half_area;
         let split = split as f32 as f64;
         (split > bounds.min[axis] && split < bounds.max[axis]).then_some((cost, axis, split))
     }
 
     /// The best plane among the items' own box faces (exact SAH), for small
     /// nodes where that is cheaper than binning and finds tight planes.
-    fn exact_split(&self, bounds: &Aabb, items: &[u32]) -> Option<(f64, usize, f64)> {
+    fn exact_split(&self, bounds: &Aabb, items: &[Item]) -> Option<(f64, usize, f64)> {
         let n = items.len();
         let f = Frame::new(bounds);
         let mut best: Option<(f64, usize, f64)> = None;
@@ -526,11 +635,11 @@ impl Builder<'_> {
             if bmax.is_nan() || bmax <= bmin {
                 continue;
             }
-            for (k, &i) in items.iter().enumerate() {
-                let b = &self.boxes[i as usize];
-                // Rounded as the stored plane will be.
-                mins[k] = b[0][axis] as f32 as f64;
-                maxs[k] = b[1][axis] as f32 as f64;
+            for (k, it) in items.iter().enumerate() {
+                let b = &it.b;
+                // Already `f32`, as the stored plane will be.
+                mins[k] = b[0][axis] as f64;
+                maxs[k] = b[1][axis] as f64;
             }
             let (mins, maxs) = (&mut mins[..n], &mut maxs[..n]);
             insertion_sort(mins);
@@ -563,6 +672,22 @@ impl Builder<'_> {
             }
         }
         best
+    }
+}
+
+/// Narrows a straddling item's box (already cut at the plane) to the box
+/// the caller's clipping found for its part on that side, if any.
+#[inline]
+fn narrow(it: &mut Item, clipped: Option<Aabb>) {
+    let Some(c) = clipped else { return };
+    let [cmin, cmax] = box6(&c);
+    for k in 0..3 {
+        let (lo, hi) = (it.b[0][k].max(cmin[k]), it.b[1][k].min(cmax[k]));
+        // Both boxes hold all of the item in the cell, so they meet
+        // unless the item only touches the cell within rounding: then
+        // trust the clipped box.
+        it.b[0][k] = if lo <= hi { lo } else { cmin[k] };
+        it.b[1][k] = if lo <= hi { hi } else { cmax[k] };
     }
 }
 

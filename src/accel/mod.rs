@@ -6,7 +6,9 @@
 
 mod kdtree;
 
-pub use kdtree::{KdTree, TreeStats};
+#[cfg(test)]
+pub(crate) use kdtree::counters;
+pub use kdtree::{BuildParams, Clip, KdTree, TreeStats};
 
 use crate::geometry::Ray;
 use crate::shapes::{Hit, Shape};
