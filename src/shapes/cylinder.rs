@@ -12,7 +12,7 @@
 //! u = (x − c.x + r)/2r, v = (z − c.z + r)/2r.
 
 use super::cone::Frustum;
-use super::{Hit, Shape};
+use super::{Crossing, Hit, Shape};
 use crate::geometry::{Aabb, DVec2, DVec3, Ray};
 use crate::scene::MaterialId;
 
@@ -42,6 +42,12 @@ impl Shape for Cylinder {
     }
     fn crossings(&self, ray: &Ray, out: &mut Vec<Hit>) {
         self.frustum.crossings(ray, out)
+    }
+    fn crossings_lite(&self, ray: &Ray, out: &mut Vec<Crossing>) {
+        self.frustum.crossings_lite(ray, out)
+    }
+    fn hit_of(&self, ray: &Ray, c: &Crossing) -> Hit {
+        self.frustum.hit_of(ray, c)
     }
     fn bounds(&self) -> Aabb {
         self.frustum.bounds()
