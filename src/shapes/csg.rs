@@ -70,8 +70,6 @@ struct Flip {
 struct Scratch {
     xs: Vec<Crossing>,
     flips: Vec<Flip>,
-    /// A union's children's reaches along the ray: (from, to, child).
-    spans: Vec<(f64, f64, u32)>,
 }
 
 /// The indices of the set bits, lowest first.
@@ -95,6 +93,9 @@ fn with_scratch<R>(f: impl FnOnce(&mut Scratch) -> R) -> R {
     POOL.with(|p| p.borrow_mut().push(s));
     r
 }
+
+/// The widest union whose children are checked pairwise for overlap.
+const SPLIT_MAX: usize = 8;
 
 /// The path of a hit nested deeper than [`Hit::path`] can record.
 const LOST: u64 = u64::MAX;
@@ -344,58 +345,72 @@ impl Csg {
     /// child's, and the rest. Within a union, a lone child's surfaces are the
     /// result's as they stand (nothing else is inside there), so it can be
     /// asked for its nearest hit directly; only the rest need the sweep.
-    /// Other operations (and unions too wide for the masks) get every child
-    /// as "rest", with nothing alone.
+    /// Other operations, and unions wider than [`SPLIT_MAX`] (where the
+    /// pairwise test would cost more than it saves), get every child as
+    /// "rest", with nothing alone.
     fn union_split(&self, ray: &Ray, t_min: f64, t_max: f64, s: &mut Scratch) -> (u64, u64) {
         let n = self.children.len();
-        if self.op != CsgOp::Union || !(2..=64).contains(&n) {
+        if self.op != CsgOp::Union || n > SPLIT_MAX {
             return (0, if n >= 64 { u64::MAX } else { (1 << n) - 1 });
         }
-        s.spans.clear();
+        let mut lo = [0.0; SPLIT_MAX];
+        let mut hi = [0.0; SPLIT_MAX];
+        let mut live = 0u64;
         for i in 0..n {
             let span = match self.reach[i] {
-                Reach::Nowhere => None,
+                Reach::Nowhere => continue,
                 Reach::Bounded => self.child_bounds[i].clip(ray, t_min, t_max),
-                Reach::Unbounded => {
-                    s.xs.clear();
-                    s.flips.clear();
-                    let start = self.child_flips(i, ray, (t_min, t_max), s);
-                    let lo = if start {
-                        f64::NEG_INFINITY
-                    } else {
-                        s.flips.first().map_or(f64::INFINITY, |f| f.t)
-                    };
-                    let end = s.flips.last().map_or(start, |f| f.inside);
-                    let hi = if end {
-                        f64::INFINITY
-                    } else {
-                        s.flips.last().map_or(f64::NEG_INFINITY, |f| f.t)
-                    };
-                    let (lo, hi) = (lo.max(t_min), hi.min(t_max));
-                    (lo <= hi).then_some((lo, hi))
-                }
+                Reach::Unbounded => self.unbounded_reach(i, ray, t_min, t_max, s),
             };
-            if let Some((lo, hi)) = span {
+            if let Some((a, b)) = span {
                 // Widened like `same_t`, so that reaches that only touch
                 // (a solid standing on the floor) count as overlapping.
-                let pad = |t: f64| 1e-9 * t.abs().max(1.0);
-                s.spans.push((lo - pad(lo), hi + pad(hi), i as u32));
+                lo[i] = a - 1e-9 * a.abs().max(1.0);
+                hi[i] = b + 1e-9 * b.abs().max(1.0);
+                live |= 1 << i;
             }
         }
-        s.spans.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
         let (mut alone, mut rest) = (0u64, 0u64);
-        let mut reach_before = f64::NEG_INFINITY;
-        for k in 0..s.spans.len() {
-            let (lo, hi, i) = s.spans[k];
-            let next = s.spans.get(k + 1).map_or(f64::INFINITY, |x| x.0);
-            if reach_before < lo && hi < next {
+        for i in bits(live) {
+            if bits(live).all(|j| j == i || hi[j] < lo[i] || hi[i] < lo[j]) {
                 alone |= 1 << i;
             } else {
                 rest |= 1 << i;
             }
-            reach_before = reach_before.max(hi);
         }
         (alone, rest)
+    }
+
+    /// Where along (t_min, t_max) unbounded child `i` may be inside: from
+    /// its first crossing, if that clearly enters, to its last, if that
+    /// clearly leaves.
+    fn unbounded_reach(
+        &self,
+        i: usize,
+        ray: &Ray,
+        t_min: f64,
+        t_max: f64,
+        s: &mut Scratch,
+    ) -> Option<(f64, f64)> {
+        s.xs.clear();
+        self.children[i].crossings_lite(ray, &mut s.xs);
+        let (a, b) = match (s.xs.first(), s.xs.last()) {
+            (Some(first), Some(last)) => (
+                if !first.grazing && first.facing < 0.0 {
+                    first.t.max(t_min)
+                } else {
+                    t_min
+                },
+                if !last.grazing && last.facing > 0.0 {
+                    last.t.min(t_max)
+                } else {
+                    t_max
+                },
+            ),
+            _ if self.children[i].encloses(ray.origin) => (t_min, t_max),
+            _ => return None,
+        };
+        (a <= b).then_some((a, b))
     }
 
     /// Whether the line can meet the result within (t_min, t_max) at all.
