@@ -44,6 +44,9 @@ impl Shape for Cone {
     fn crossings(&self, ray: &Ray, out: &mut Vec<Hit>) {
         self.frustum.crossings(ray, out)
     }
+    fn occludes(&self, ray: &Ray, t_min: f64, t_max: f64) -> bool {
+        self.frustum.occludes(ray, t_min, t_max)
+    }
     fn crossings_lite(&self, ray: &Ray, out: &mut Vec<Crossing>) {
         self.frustum.crossings_lite(ray, out)
     }
@@ -191,11 +194,28 @@ impl Frustum {
 
     fn crossing(&self, ray: &Ray, t: f64, s: Surface) -> Crossing {
         let normal = match s {
-            Surface::Side => self.side_normal(ray.at(t)),
+            // Only the direction matters here, so no need to normalise
+            // (except at the apex, which has no normal of its own).
+            Surface::Side => {
+                let p = ray.at(t);
+                let q = p - self.centre;
+                let r = self.r0 + self.slope * (p.y - self.y0);
+                let n = DVec3::new(q.x, -r * self.slope, q.z);
+                if n == DVec3::ZERO {
+                    self.side_normal(p)
+                } else {
+                    n
+                }
+            }
             Surface::Top => DVec3::Y,
             Surface::Bottom => -DVec3::Y,
         };
         Crossing::new(t, normal, ray, s as u64)
+    }
+
+    pub(super) fn occludes(&self, ray: &Ray, t_min: f64, t_max: f64) -> bool {
+        let (c, n) = self.sorted(ray);
+        c[..n].iter().any(|x| x.0 > t_min && x.0 < t_max)
     }
 
     pub(super) fn crossings_lite(&self, ray: &Ray, out: &mut Vec<Crossing>) {

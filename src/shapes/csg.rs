@@ -471,11 +471,14 @@ impl Shape for Csg {
             }
             // Every surface of the result is some child's surface, so when no
             // child has a crossing in range (the common shadow ray), neither
-            // does the result, and the sweep is not needed.
-            let near = bits(rest).any(|i| {
-                self.child_bounds[i].clip(ray, t_min, t_max).is_some()
-                    && self.children[i].occludes(ray, t_min, t_max)
-            });
+            // does the result, and the sweep is not needed. (An intersection
+            // or a difference narrows its sweep by its first child at once,
+            // which does the same job.)
+            let near = self.op != CsgOp::Union
+                || bits(rest).any(|i| {
+                    self.child_bounds[i].clip(ray, t_min, t_max).is_some()
+                        && self.children[i].occludes(ray, t_min, t_max)
+                });
             let mut hit = false;
             if near {
                 self.sweep(ray, (t_min, t_max), !rest, s, |c| {

@@ -43,6 +43,9 @@ impl Shape for Cylinder {
     fn crossings(&self, ray: &Ray, out: &mut Vec<Hit>) {
         self.frustum.crossings(ray, out)
     }
+    fn occludes(&self, ray: &Ray, t_min: f64, t_max: f64) -> bool {
+        self.frustum.occludes(ray, t_min, t_max)
+    }
     fn crossings_lite(&self, ray: &Ray, out: &mut Vec<Crossing>) {
         self.frustum.crossings_lite(ray, out)
     }

@@ -71,6 +71,10 @@ impl Shape for Plane {
         }
     }
 
+    fn occludes(&self, ray: &Ray, t_min: f64, t_max: f64) -> bool {
+        self.root(ray).is_some_and(|t| t > t_min && t < t_max)
+    }
+
     fn crossings_lite(&self, ray: &Ray, out: &mut Vec<Crossing>) {
         if let Some(t) = self.root(ray) {
             out.push(Crossing::new(t, self.normal, ray, 0));

@@ -73,6 +73,11 @@ impl Shape for Sphere {
         }
     }
 
+    fn occludes(&self, ray: &Ray, t_min: f64, t_max: f64) -> bool {
+        self.roots(ray)
+            .is_some_and(|(t0, t1)| (t0 > t_min && t0 < t_max) || (t1 > t_min && t1 < t_max))
+    }
+
     fn crossings_lite(&self, ray: &Ray, out: &mut Vec<Crossing>) {
         if let Some((t0, t1)) = self.roots(ray) {
             for t in [t0, t1] {
