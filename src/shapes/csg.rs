@@ -356,19 +356,33 @@ impl Csg {
         let mut lo = [0.0; SPLIT_MAX];
         let mut hi = [0.0; SPLIT_MAX];
         let mut live = 0u64;
-        for i in 0..n {
-            let span = match self.reach[i] {
-                Reach::Nowhere => continue,
-                Reach::Bounded => self.child_bounds[i].clip(ray, t_min, t_max),
-                Reach::Unbounded => self.unbounded_reach(i, ray, t_min, t_max, s),
-            };
+        let mut unbounded = 0u64;
+        let mut reach = |i: usize, span: Option<(f64, f64)>, live: &mut u64| {
             if let Some((a, b)) = span {
                 // Widened like `same_t`, so that reaches that only touch
                 // (a solid standing on the floor) count as overlapping.
                 lo[i] = a - 1e-9 * a.abs().max(1.0);
                 hi[i] = b + 1e-9 * b.abs().max(1.0);
-                live |= 1 << i;
+                *live |= 1 << i;
             }
+        };
+        for i in 0..n {
+            match self.reach[i] {
+                Reach::Nowhere => {}
+                Reach::Bounded => reach(i, self.child_bounds[i].clip(ray, t_min, t_max), &mut live),
+                Reach::Unbounded => unbounded |= 1 << i,
+            }
+        }
+        // An unbounded child's reach costs its crossings: not needed when
+        // nothing else is near (the floor seen away from everything else).
+        if live == 0 && unbounded.count_ones() <= 1 {
+            return (unbounded, 0);
+        }
+        for i in bits(unbounded) {
+            reach(i, self.unbounded_reach(i, ray, t_min, t_max, s), &mut live);
+        }
+        if live.count_ones() <= 1 {
+            return (live, 0);
         }
         let (mut alone, mut rest) = (0u64, 0u64);
         for i in bits(live) {
