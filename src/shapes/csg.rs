@@ -106,6 +106,36 @@ fn same_t(a: f64, b: f64) -> bool {
     (b - a).abs() <= 1e-9 * a.abs().max(1.0)
 }
 
+/// [`Aabb::clip`] made of plain comparisons, which CSG runs several times
+/// per ray. A NaN slab (a ray in the plane of a face) is ignored, so the
+/// stretch can only come out wider, never lose a hit.
+fn clip(b: &Aabb, ray: &Ray, t_min: f64, t_max: f64) -> Option<(f64, f64)> {
+    let inv = ray.dir.recip();
+    let t0 = (b.min - ray.origin) * inv;
+    let t1 = (b.max - ray.origin) * inv;
+    let (mut lo, mut hi) = (t_min, t_max);
+    slab(t0.x, t1.x, &mut lo, &mut hi);
+    slab(t0.y, t1.y, &mut lo, &mut hi);
+    slab(t0.z, t1.z, &mut lo, &mut hi);
+    (lo <= hi).then_some((lo, hi))
+}
+
+/// Narrows (lo, hi) to one slab's stretch (a, c) in either order; a NaN
+/// (0·∞: the ray runs in the plane of a face) leaves it as it is.
+#[inline(always)]
+fn slab(a: f64, c: f64, lo: &mut f64, hi: &mut f64) {
+    if a.is_nan() || c.is_nan() {
+        return;
+    }
+    let (near, far) = if a < c { (a, c) } else { (c, a) };
+    if near > *lo {
+        *lo = near;
+    }
+    if far < *hi {
+        *hi = far;
+    }
+}
+
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Reach {
     Nowhere,
@@ -201,7 +231,7 @@ impl Csg {
             Reach::Bounded => true,
             Reach::Unbounded => false,
         };
-        if bounded && self.child_bounds[i].clip(ray, span.0, span.1).is_none() {
+        if bounded && clip(&self.child_bounds[i], ray, span.0, span.1).is_none() {
             return false;
         }
         let first = s.xs.len();
@@ -369,7 +399,9 @@ impl Csg {
         for i in 0..n {
             match self.reach[i] {
                 Reach::Nowhere => {}
-                Reach::Bounded => reach(i, self.child_bounds[i].clip(ray, t_min, t_max), &mut live),
+                Reach::Bounded => {
+                    reach(i, clip(&self.child_bounds[i], ray, t_min, t_max), &mut live)
+                }
                 Reach::Unbounded => unbounded |= 1 << i,
             }
         }
@@ -429,7 +461,7 @@ impl Csg {
 
     /// Whether the line can meet the result within (t_min, t_max) at all.
     fn may_hit(&self, ray: &Ray, t_min: f64, t_max: f64) -> bool {
-        !self.bounds.is_empty() && self.bounds.clip(ray, t_min, t_max).is_some()
+        !self.bounds.is_empty() && clip(&self.bounds, ray, t_min, t_max).is_some()
     }
 }
 
@@ -490,7 +522,7 @@ impl Shape for Csg {
             // which does the same job.)
             let near = self.op != CsgOp::Union
                 || bits(rest).any(|i| {
-                    self.child_bounds[i].clip(ray, t_min, t_max).is_some()
+                    clip(&self.child_bounds[i], ray, t_min, t_max).is_some()
                         && self.children[i].occludes(ray, t_min, t_max)
                 });
             let mut hit = false;
@@ -1035,6 +1067,34 @@ mod tests {
             assert_eq!(u.occludes(r, lo, hi), want.is_some());
             hits += got.is_some() as usize;
         }
+        assert!(hits > 300, "{hits}");
+    }
+
+    #[test]
+    fn quick_clip_agrees_with_aabb_clip() {
+        let b = Aabb::new(DVec3::new(-1.0, 0.0, -0.5), DVec3::new(1.0, 2.0, 0.5));
+        let mut rays = testing::rays_towards(DVec3::new(0.0, 1.0, 0.0), 2.0, 500, 71);
+        // Axis-parallel, one of them in the plane of a face.
+        rays.push(Ray::new(DVec3::new(0.0, 1.0, -5.0), DVec3::Z));
+        rays.push(Ray::new(DVec3::new(1.0, 1.0, -5.0), DVec3::Z));
+        rays.push(Ray::new(DVec3::new(3.0, 1.0, -5.0), DVec3::Z));
+        let mut hits = 0;
+        for r in &rays {
+            for (lo, hi) in [(0.0, f64::INFINITY), (9.0, 10.0), (f64::NEG_INFINITY, 9.5)] {
+                let (a, b2) = (clip(&b, r, lo, hi), b.clip(r, lo, hi));
+                if r.dir.cmpne(DVec3::ZERO).all() {
+                    assert_eq!(a, b2, "{r:?} {lo}..{hi}");
+                } else if let Some((x, y)) = b2 {
+                    // Along a face's plane: at least Aabb::clip's stretch.
+                    let (p, q) = a.unwrap();
+                    assert!(p <= x && q >= y, "{r:?} {lo}..{hi}");
+                }
+                hits += a.is_some() as usize;
+            }
+        }
+        // The line in the plane x = 1 (of the face) still meets the box.
+        let along = Ray::new(DVec3::new(1.0, 1.0, -5.0), DVec3::Z);
+        assert_eq!(clip(&b, &along, 0.0, 99.0), Some((4.5, 5.5)));
         assert!(hits > 300, "{hits}");
     }
 
