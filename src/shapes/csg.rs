@@ -100,10 +100,19 @@ const SPLIT_MAX: usize = 8;
 /// The path of a hit nested deeper than [`Hit::path`] can record.
 const LOST: u64 = u64::MAX;
 
+/// |t|, but at least 1 (and 1 for a NaN): the scale of a relative
+/// tolerance. `f64::max` says the same with more instructions (it takes
+/// care over NaN and signed zeros), and this runs for every crossing.
+#[inline(always)]
+fn magnitude(t: f64) -> f64 {
+    let m = t.abs();
+    if m > 1.0 { m } else { 1.0 }
+}
+
 /// Crossings this close in `t` (relative) are one event: coincident faces
 /// (A ∪ A, boxes sharing a face) must not open zero-width slivers.
 fn same_t(a: f64, b: f64) -> bool {
-    (b - a).abs() <= 1e-9 * a.abs().max(1.0)
+    (b - a).abs() <= 1e-9 * magnitude(a)
 }
 
 /// [`Aabb::clip`] made of plain comparisons, which CSG runs several times
@@ -317,7 +326,7 @@ impl Csg {
                     None => f64::INFINITY,
                 };
                 // Widened like `same_t`, to keep crossings at the very ends.
-                let pad = |t: f64| 1e-9 * t.abs().max(1.0);
+                let pad = |t: f64| 1e-9 * magnitude(t);
                 span = (span.0.max(lo - pad(lo)), span.1.min(hi + pad(hi)));
                 if span.0 > span.1 {
                     return;
@@ -391,8 +400,8 @@ impl Csg {
             if let Some((a, b)) = span {
                 // Widened like `same_t`, so that reaches that only touch
                 // (a solid standing on the floor) count as overlapping.
-                lo[i] = a - 1e-9 * a.abs().max(1.0);
-                hi[i] = b + 1e-9 * b.abs().max(1.0);
+                lo[i] = a - 1e-9 * magnitude(a);
+                hi[i] = b + 1e-9 * magnitude(b);
                 *live |= 1 << i;
             }
         };
