@@ -51,6 +51,8 @@ pub struct Csg {
     /// outside it) or unbounded.
     reach: Vec<Reach>,
     bounds: Aabb,
+    /// The same for the result's own bounds.
+    extent: Reach,
 }
 
 /// One change of a child's inside flag along the line.
@@ -118,8 +120,8 @@ fn same_t(a: f64, b: f64) -> bool {
 /// [`Aabb::clip`] made of plain comparisons, which CSG runs several times
 /// per ray. A NaN slab (a ray in the plane of a face) is ignored, so the
 /// stretch can only come out wider, never lose a hit.
-fn clip(b: &Aabb, ray: &Ray, t_min: f64, t_max: f64) -> Option<(f64, f64)> {
-    let inv = ray.dir.recip();
+/// `inv` is `ray.dir.recip()`, worked out once for all the boxes.
+fn clip(b: &Aabb, ray: &Ray, inv: DVec3, t_min: f64, t_max: f64) -> Option<(f64, f64)> {
     let t0 = (b.min - ray.origin) * inv;
     let t1 = (b.max - ray.origin) * inv;
     let (mut lo, mut hi) = (t_min, t_max);
@@ -179,24 +181,24 @@ impl Csg {
         } else {
             bounds
         };
-        let reach = child_bounds
-            .iter()
-            .map(|b| {
-                if b.is_empty() {
-                    Reach::Nowhere
-                } else if b.is_finite() {
-                    Reach::Bounded
-                } else {
-                    Reach::Unbounded
-                }
-            })
-            .collect();
+        let reach_of = |b: &Aabb| {
+            if b.is_empty() {
+                Reach::Nowhere
+            } else if b.is_finite() {
+                Reach::Bounded
+            } else {
+                Reach::Unbounded
+            }
+        };
+        let reach = child_bounds.iter().map(reach_of).collect();
+        let extent = reach_of(&bounds);
         Csg {
             op,
             children,
             child_bounds,
             reach,
             bounds,
+            extent,
         }
     }
 
@@ -234,13 +236,20 @@ impl Csg {
     /// the part of the line in `span` is outside all along that part, so it
     /// is left out (that is what makes a ray starting beside a big union
     /// cheap).
-    fn child_flips(&self, i: usize, ray: &Ray, span: (f64, f64), s: &mut Scratch) -> bool {
+    fn child_flips(
+        &self,
+        i: usize,
+        ray: &Ray,
+        inv: DVec3,
+        span: (f64, f64),
+        s: &mut Scratch,
+    ) -> bool {
         let bounded = match self.reach[i] {
             Reach::Nowhere => return false,
             Reach::Bounded => true,
             Reach::Unbounded => false,
         };
-        if bounded && clip(&self.child_bounds[i], ray, span.0, span.1).is_none() {
+        if bounded && clip(&self.child_bounds[i], ray, inv, span.0, span.1).is_none() {
             return false;
         }
         let first = s.xs.len();
@@ -298,12 +307,13 @@ impl Csg {
         s.flips.clear();
         let mut count = Count::default();
         let mut span = span;
+        let inv = ray.dir.recip();
         for i in 0..self.children.len() {
             if i < 64 && skip & (1 << i) != 0 {
                 continue;
             }
             let before = s.flips.len();
-            let start = self.child_flips(i, ray, span, s);
+            let start = self.child_flips(i, ray, inv, span, s);
             if start {
                 self.count(&mut count, i, true);
             }
@@ -392,6 +402,7 @@ impl Csg {
         if self.op != CsgOp::Union || n > SPLIT_MAX {
             return (0, if n >= 64 { u64::MAX } else { (1 << n) - 1 });
         }
+        let inv = ray.dir.recip();
         let mut lo = [0.0; SPLIT_MAX];
         let mut hi = [0.0; SPLIT_MAX];
         let mut live = 0u64;
@@ -408,9 +419,11 @@ impl Csg {
         for i in 0..n {
             match self.reach[i] {
                 Reach::Nowhere => {}
-                Reach::Bounded => {
-                    reach(i, clip(&self.child_bounds[i], ray, t_min, t_max), &mut live)
-                }
+                Reach::Bounded => reach(
+                    i,
+                    clip(&self.child_bounds[i], ray, inv, t_min, t_max),
+                    &mut live,
+                ),
                 Reach::Unbounded => unbounded |= 1 << i,
             }
         }
@@ -470,7 +483,11 @@ impl Csg {
 
     /// Whether the line can meet the result within (t_min, t_max) at all.
     fn may_hit(&self, ray: &Ray, t_min: f64, t_max: f64) -> bool {
-        !self.bounds.is_empty() && clip(&self.bounds, ray, t_min, t_max).is_some()
+        match self.extent {
+            Reach::Nowhere => false,
+            Reach::Unbounded => true,
+            Reach::Bounded => clip(&self.bounds, ray, ray.dir.recip(), t_min, t_max).is_some(),
+        }
     }
 }
 
@@ -531,7 +548,7 @@ impl Shape for Csg {
             // which does the same job.)
             let near = self.op != CsgOp::Union
                 || bits(rest).any(|i| {
-                    clip(&self.child_bounds[i], ray, t_min, t_max).is_some()
+                    clip(&self.child_bounds[i], ray, ray.dir.recip(), t_min, t_max).is_some()
                         && self.children[i].occludes(ray, t_min, t_max)
                 });
             let mut hit = false;
@@ -1090,7 +1107,7 @@ mod tests {
         let mut hits = 0;
         for r in &rays {
             for (lo, hi) in [(0.0, f64::INFINITY), (9.0, 10.0), (f64::NEG_INFINITY, 9.5)] {
-                let (a, b2) = (clip(&b, r, lo, hi), b.clip(r, lo, hi));
+                let (a, b2) = (clip(&b, r, r.dir.recip(), lo, hi), b.clip(r, lo, hi));
                 if r.dir.cmpne(DVec3::ZERO).all() {
                     assert_eq!(a, b2, "{r:?} {lo}..{hi}");
                 } else if let Some((x, y)) = b2 {
@@ -1103,7 +1120,10 @@ mod tests {
         }
         // The line in the plane x = 1 (of the face) still meets the box.
         let along = Ray::new(DVec3::new(1.0, 1.0, -5.0), DVec3::Z);
-        assert_eq!(clip(&b, &along, 0.0, 99.0), Some((4.5, 5.5)));
+        assert_eq!(
+            clip(&b, &along, along.dir.recip(), 0.0, 99.0),
+            Some((4.5, 5.5))
+        );
         assert!(hits > 300, "{hits}");
     }
 
