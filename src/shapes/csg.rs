@@ -24,10 +24,18 @@
 //! - A plane is a half-space (the solid side is behind its normal): it has
 //!   one crossing, and the line starts inside when that crossing leaves.
 //!
-//! Each crossing the result reports records which child it came from in
-//! [`Hit::path`] (one mixed-radix digit per level: `path · n + child`), so
-//! that texture coordinates, computed only for the hit that is shaded, are
-//! asked of the shape that made it.
+//! The sweep works on light crossings ([`Crossing`]: t, which way, and a
+//! key), not full hits: the one hit a ray asks for is made at the end by
+//! [`Shape::hit_of`], which follows the key down to the leaf. Each level
+//! adds one mixed-radix digit (`key · n + child`) to the key, and the same
+//! digit to [`Hit::path`], so that texture coordinates, computed only for
+//! the hit that is shaded, are asked of the shape that made it.
+//!
+//! Shortcuts, each exact: a union's child whose reach along the ray (its
+//! box, or an unbounded child's first to last crossing) overlaps no other
+//! child's is asked for its nearest hit directly (the floor under a few
+//! solids); an intersection or a difference stops as soon as its first
+//! child's inside misses the window asked about.
 
 use super::{Crossing, Hit, Shape};
 use crate::geometry::{Aabb, DVec2, DVec3, Ray};
