@@ -34,8 +34,9 @@
 //! Shortcuts, each exact: a union's child whose reach along the ray (its
 //! box, or an unbounded child's first to last crossing) overlaps no other
 //! child's is asked for its nearest hit directly (the floor under a few
-//! solids); an intersection or a difference stops as soon as its first
-//! child's inside misses the window asked about.
+//! solids); an intersection (after any child) or a difference (after its
+//! first child) stops as soon as what that child encloses misses the
+//! window asked about, and narrows the window for the children after it.
 
 use super::{Crossing, Hit, Shape};
 use crate::geometry::{Aabb, DVec2, DVec3, Ray};
