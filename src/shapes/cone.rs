@@ -11,7 +11,7 @@
 //! [0, 1), v = (y − c.y)/h + 0.5; each cap like a disc in its x-z plane,
 //! u = (x − c.x + r)/2r, v = (z − c.z + r)/2r with r that cap's radius.
 
-use super::{Hit, Shape, solve_quadratic};
+use super::{Crossing, Hit, Shape, solve_quadratic};
 use crate::geometry::{Aabb, DVec2, DVec3, Ray};
 use crate::scene::MaterialId;
 use std::f64::consts::PI;
@@ -44,6 +44,15 @@ impl Shape for Cone {
     fn crossings(&self, ray: &Ray, out: &mut Vec<Hit>) {
         self.frustum.crossings(ray, out)
     }
+    fn occludes(&self, ray: &Ray, t_min: f64, t_max: f64) -> bool {
+        self.frustum.occludes(ray, t_min, t_max)
+    }
+    fn crossings_lite(&self, ray: &Ray, out: &mut Vec<Crossing>) {
+        self.frustum.crossings_lite(ray, out)
+    }
+    fn hit_of(&self, ray: &Ray, c: &Crossing) -> Hit {
+        self.frustum.hit_of(ray, c)
+    }
     fn bounds(&self) -> Aabb {
         self.frustum.bounds()
     }
@@ -62,9 +71,9 @@ fn cap_uv(q: DVec3, r: f64) -> DVec2 {
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Surface {
-    Side,
-    Top,
-    Bottom,
+    Side = 0,
+    Top = 1,
+    Bottom = 2,
 }
 
 /// The surface x² + z² = r(y)² (relative to the centre) between two
@@ -169,22 +178,66 @@ impl Frustum {
         n
     }
 
+    /// The side's outward normal at `p`, unit length.
+    fn side_normal(&self, p: DVec3) -> DVec3 {
+        let q = p - self.centre;
+        let r = self.r0 + self.slope * (p.y - self.y0);
+        let n = DVec3::new(q.x, -r * self.slope, q.z);
+        // Only the apex has no normal; there the axis is the best guess.
+        let apex = if self.r0 > self.r1 {
+            DVec3::Y
+        } else {
+            -DVec3::Y
+        };
+        n.try_normalize().unwrap_or(apex)
+    }
+
+    fn crossing(&self, ray: &Ray, t: f64, s: Surface) -> Crossing {
+        let normal = match s {
+            // Only the direction matters here, so no need to normalise
+            // (except at the apex, which has no normal of its own).
+            Surface::Side => {
+                let p = ray.at(t);
+                let q = p - self.centre;
+                let r = self.r0 + self.slope * (p.y - self.y0);
+                let n = DVec3::new(q.x, -r * self.slope, q.z);
+                if n == DVec3::ZERO {
+                    self.side_normal(p)
+                } else {
+                    n
+                }
+            }
+            Surface::Top => DVec3::Y,
+            Surface::Bottom => -DVec3::Y,
+        };
+        Crossing::new(t, normal, ray, s as u64)
+    }
+
+    pub(super) fn occludes(&self, ray: &Ray, t_min: f64, t_max: f64) -> bool {
+        let (c, n) = self.sorted(ray);
+        c[..n].iter().any(|x| x.0 > t_min && x.0 < t_max)
+    }
+
+    pub(super) fn crossings_lite(&self, ray: &Ray, out: &mut Vec<Crossing>) {
+        let (c, n) = self.sorted(ray);
+        out.extend(c[..n].iter().map(|&(t, s)| self.crossing(ray, t, s)));
+    }
+
+    pub(super) fn hit_of(&self, ray: &Ray, c: &Crossing) -> Hit {
+        let s = match c.key {
+            1 => Surface::Top,
+            2 => Surface::Bottom,
+            _ => Surface::Side,
+        };
+        self.hit_at(ray, c.t, s)
+    }
+
     fn hit_at(&self, ray: &Ray, t: f64, s: Surface) -> Hit {
         let p = ray.at(t);
         let q = p - self.centre;
         let (normal, uv, material) = match s {
-            Surface::Side => {
-                let r = self.r0 + self.slope * (p.y - self.y0);
-                let n = DVec3::new(q.x, -r * self.slope, q.z);
-                // Only the apex has no normal; there the axis is the best guess.
-                let apex = if self.r0 > self.r1 {
-                    DVec3::Y
-                } else {
-                    -DVec3::Y
-                };
-                // The side's (u, v) needs atan2: left to `uv`.
-                (n.try_normalize().unwrap_or(apex), DVec2::ZERO, self.side)
-            }
+            // The side's (u, v) needs atan2: left to `uv`.
+            Surface::Side => (self.side_normal(p), DVec2::ZERO, self.side),
             Surface::Top | Surface::Bottom => {
                 let caps = self.caps.unwrap_or([self.side; 2]);
                 let (r, n, m) = if s == Surface::Top {

@@ -24,12 +24,21 @@
 //! - A plane is a half-space (the solid side is behind its normal): it has
 //!   one crossing, and the line starts inside when that crossing leaves.
 //!
-//! Each crossing the result reports records which child it came from in
-//! [`Hit::path`] (one mixed-radix digit per level: `path · n + child`), so
-//! that texture coordinates, computed only for the hit that is shaded, are
-//! asked of the shape that made it.
+//! The sweep works on light crossings ([`Crossing`]: t, which way, and a
+//! key), not full hits: the one hit a ray asks for is made at the end by
+//! [`Shape::hit_of`], which follows the key down to the leaf. Each level
+//! adds one mixed-radix digit (`key · n + child`) to the key, and the same
+//! digit to [`Hit::path`], so that texture coordinates, computed only for
+//! the hit that is shaded, are asked of the shape that made it.
+//!
+//! Shortcuts, each exact: a union's child whose reach along the ray (its
+//! box, or an unbounded child's first to last crossing) overlaps no other
+//! child's is asked for its nearest hit directly (the floor under a few
+//! solids); an intersection (after any child) or a difference (after its
+//! first child) stops as soon as what that child encloses misses the
+//! window asked about, and narrows the window for the children after it.
 
-use super::{Hit, Shape};
+use super::{Crossing, Hit, Shape};
 use crate::geometry::{Aabb, DVec2, DVec3, Ray};
 use std::cell::RefCell;
 
@@ -51,6 +60,8 @@ pub struct Csg {
     /// outside it) or unbounded.
     reach: Vec<Reach>,
     bounds: Aabb,
+    /// The same for the result's own bounds.
+    extent: Reach,
 }
 
 /// One change of a child's inside flag along the line.
@@ -59,17 +70,28 @@ struct Flip {
     t: f64,
     child: u32,
     inside: bool,
-    /// Index of the child's crossing in [`Scratch::hits`]; a cutter's normal
+    /// Index of the child's crossing in [`Scratch::xs`]; a cutter's facing
     /// there is already reversed to face out of the result.
-    hit: u32,
+    at: u32,
 }
 
 /// Buffers reused between calls; a pool rather than one buffer because a
 /// nested `Csg` needs its own while its parent's are in use.
 #[derive(Default)]
 struct Scratch {
-    hits: Vec<Hit>,
+    xs: Vec<Crossing>,
     flips: Vec<Flip>,
+}
+
+/// The indices of the set bits, lowest first.
+fn bits(mut m: u64) -> impl Iterator<Item = usize> {
+    std::iter::from_fn(move || {
+        (m != 0).then(|| {
+            let i = m.trailing_zeros() as usize;
+            m &= m - 1;
+            i
+        })
+    })
 }
 
 thread_local! {
@@ -83,21 +105,55 @@ fn with_scratch<R>(f: impl FnOnce(&mut Scratch) -> R) -> R {
     r
 }
 
+/// The widest union whose children are checked pairwise for overlap.
+const SPLIT_MAX: usize = 8;
+
 /// The path of a hit nested deeper than [`Hit::path`] can record.
 const LOST: u64 = u64::MAX;
+
+/// |t|, but at least 1 (and 1 for a NaN): the scale of a relative
+/// tolerance. `f64::max` says the same with more instructions (it takes
+/// care over NaN and signed zeros), and this runs for every crossing.
+#[inline(always)]
+fn magnitude(t: f64) -> f64 {
+    let m = t.abs();
+    if m > 1.0 { m } else { 1.0 }
+}
 
 /// Crossings this close in `t` (relative) are one event: coincident faces
 /// (A ∪ A, boxes sharing a face) must not open zero-width slivers.
 fn same_t(a: f64, b: f64) -> bool {
-    (b - a).abs() <= 1e-9 * a.abs().max(1.0)
+    (b - a).abs() <= 1e-9 * magnitude(a)
 }
 
-/// A crossing so nearly along the surface that the sign of normal·dir is
-/// noise (the double root of a tangent ray): it flips the inside flag
-/// rather than setting it.
-fn grazing(n: DVec3, d: DVec3, d_len2: f64) -> bool {
-    let s = n.dot(d);
-    s * s <= 1e-18 * n.length_squared() * d_len2
+/// [`Aabb::clip`] made of plain comparisons, which CSG runs several times
+/// per ray. A NaN slab (a ray in the plane of a face) is ignored, so the
+/// stretch can only come out wider, never lose a hit.
+/// `inv` is `ray.dir.recip()`, worked out once for all the boxes.
+fn clip(b: &Aabb, ray: &Ray, inv: DVec3, t_min: f64, t_max: f64) -> Option<(f64, f64)> {
+    let t0 = (b.min - ray.origin) * inv;
+    let t1 = (b.max - ray.origin) * inv;
+    let (mut lo, mut hi) = (t_min, t_max);
+    slab(t0.x, t1.x, &mut lo, &mut hi);
+    slab(t0.y, t1.y, &mut lo, &mut hi);
+    slab(t0.z, t1.z, &mut lo, &mut hi);
+    (lo <= hi).then_some((lo, hi))
+}
+
+/// Narrows (lo, hi) to one slab's stretch (a, c) in either order; a NaN
+/// (0·∞: the ray runs in the plane of a face) leaves it as it is.
+#[inline(always)]
+fn slab(a: f64, c: f64, lo: &mut f64, hi: &mut f64) {
+    if a.is_nan() || c.is_nan() {
+        return;
+    }
+    let (near, far) = if a < c { (a, c) } else { (c, a) };
+    if near > *lo {
+        *lo = near;
+    }
+    if far < *hi {
+        *hi = far;
+    }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -134,24 +190,24 @@ impl Csg {
         } else {
             bounds
         };
-        let reach = child_bounds
-            .iter()
-            .map(|b| {
-                if b.is_empty() {
-                    Reach::Nowhere
-                } else if b.is_finite() {
-                    Reach::Bounded
-                } else {
-                    Reach::Unbounded
-                }
-            })
-            .collect();
+        let reach_of = |b: &Aabb| {
+            if b.is_empty() {
+                Reach::Nowhere
+            } else if b.is_finite() {
+                Reach::Bounded
+            } else {
+                Reach::Unbounded
+            }
+        };
+        let reach = child_bounds.iter().map(reach_of).collect();
+        let extent = reach_of(&bounds);
         Csg {
             op,
             children,
             child_bounds,
             reach,
             bounds,
+            extent,
         }
     }
 
@@ -189,51 +245,55 @@ impl Csg {
     /// the part of the line in `span` is outside all along that part, so it
     /// is left out (that is what makes a ray starting beside a big union
     /// cheap).
-    fn child_flips(&self, i: usize, ray: &Ray, span: (f64, f64), s: &mut Scratch) -> bool {
+    fn child_flips(
+        &self,
+        i: usize,
+        ray: &Ray,
+        inv: DVec3,
+        span: (f64, f64),
+        s: &mut Scratch,
+    ) -> bool {
         let bounded = match self.reach[i] {
             Reach::Nowhere => return false,
             Reach::Bounded => true,
             Reach::Unbounded => false,
         };
-        if bounded && self.child_bounds[i].clip(ray, span.0, span.1).is_none() {
+        if bounded && clip(&self.child_bounds[i], ray, inv, span.0, span.1).is_none() {
             return false;
         }
-        let first = s.hits.len();
-        self.children[i].crossings(ray, &mut s.hits);
-        let d_len2 = ray.dir.length_squared();
+        let first = s.xs.len();
+        self.children[i].crossings_lite(ray, &mut s.xs);
         // A bounded solid cannot contain the far end of a line; an unbounded
-        // one (a plane) starts inside when its first crossing leaves.
+        // one (a plane) starts inside when its first crossing leaves. A
+        // grazing crossing (a tangent ray's double root) flips the inside
+        // flag rather than setting it.
         let mut inside = if bounded {
             false
         } else {
-            match s.hits.get(first) {
-                Some(h) if !grazing(h.normal, ray.dir, d_len2) => h.normal.dot(ray.dir) > 0.0,
+            match s.xs.get(first) {
+                Some(c) if !c.grazing => c.facing > 0.0,
                 Some(_) => false,
                 None => self.children[i].encloses(ray.origin),
             }
         };
         let start = inside;
         let cutter = self.is_cutter(i);
-        for k in first..s.hits.len() {
-            let h = &mut s.hits[k];
-            let now = if grazing(h.normal, ray.dir, d_len2) {
-                !inside
-            } else {
-                h.normal.dot(ray.dir) < 0.0
-            };
+        for k in first..s.xs.len() {
+            let c = &mut s.xs[k];
+            let now = if c.grazing { !inside } else { c.facing < 0.0 };
             // A repeated crossing (a mesh edge reported twice) changes nothing.
             if now == inside {
                 continue;
             }
             inside = now;
             if cutter {
-                h.normal = -h.normal;
+                c.facing = -c.facing;
             }
             s.flips.push(Flip {
-                t: h.t,
+                t: c.t,
                 child: i as u32,
                 inside: now,
-                hit: k as u32,
+                at: k as u32,
             });
         }
         start
@@ -241,29 +301,55 @@ impl Csg {
 
     /// Walks the result's crossings in increasing t, handing each to `emit`
     /// until it returns true (found what it wanted). Only the crossings
-    /// within `span` are sure to be complete and right.
+    /// within `span` are sure to be complete and right. Children whose bit
+    /// is set in `skip` are left out (a union's children that the caller
+    /// has shown to be outside all along `span`, or dealt with apart).
     fn sweep(
         &self,
         ray: &Ray,
         span: (f64, f64),
+        skip: u64,
         s: &mut Scratch,
-        mut emit: impl FnMut(Hit) -> bool,
+        mut emit: impl FnMut(Crossing) -> bool,
     ) {
-        s.hits.clear();
+        s.xs.clear();
         s.flips.clear();
         let mut count = Count::default();
+        let mut span = span;
+        let inv = ray.dir.recip();
         for i in 0..self.children.len() {
+            if i < 64 && skip & (1 << i) != 0 {
+                continue;
+            }
             let before = s.flips.len();
-            let start = self.child_flips(i, ray, span, s);
+            let start = self.child_flips(i, ray, inv, span, s);
             if start {
                 self.count(&mut count, i, true);
             }
-            // A child that is never inside empties an intersection, and an
-            // empty first child empties a difference.
-            let never = !start && s.flips.len() == before;
-            if never && (self.op == CsgOp::Intersection || (self.op == CsgOp::Difference && i == 0))
-            {
-                return;
+            // The result lies inside every child of an intersection and
+            // inside the first child of a difference: outside the stretch
+            // from where such a child is first inside to where it is last,
+            // there is nothing to find (and later children whose boxes miss
+            // what is left are left out). A child that is never inside
+            // empties the result.
+            if self.op == CsgOp::Intersection || (self.op == CsgOp::Difference && i == 0) {
+                let mine = &s.flips[before..];
+                let lo = match mine.first() {
+                    _ if start => f64::NEG_INFINITY,
+                    Some(f) => f.t,
+                    None => return,
+                };
+                let hi = match mine.last() {
+                    Some(f) if !f.inside => f.t,
+                    Some(_) => f64::INFINITY,
+                    None => f64::INFINITY,
+                };
+                // Widened like `same_t`, to keep crossings at the very ends.
+                let pad = |t: f64| 1e-9 * magnitude(t);
+                span = (span.0.max(lo - pad(lo)), span.1.min(hi + pad(hi)));
+                if span.0 > span.1 {
+                    return;
+                }
             }
         }
         s.flips.sort_unstable_by(|a, b| a.t.total_cmp(&b.t));
@@ -286,9 +372,15 @@ impl Csg {
             // Report the crossing whose (possibly reversed) normal agrees
             // with the change: against the ray when entering.
             let batch = &s.flips[begin..k];
-            let agrees = |f: &&Flip| (s.hits[f.hit as usize].normal.dot(ray.dir) < 0.0) == now;
+            let agrees = |f: &&Flip| (s.xs[f.at as usize].facing < 0.0) == now;
             let f = batch.iter().find(agrees).unwrap_or(&batch[0]);
-            if emit(self.tagged(s.hits[f.hit as usize], f.child)) {
+            let c = s.xs[f.at as usize];
+            let key = c
+                .key
+                .checked_mul(self.children.len() as u64)
+                .and_then(|k| k.checked_add(f.child as u64))
+                .unwrap_or(LOST);
+            if emit(Crossing { key, ..c }) {
                 return;
             }
         }
@@ -305,9 +397,139 @@ impl Csg {
         h
     }
 
+    /// Splits the children that matter within (t_min, t_max) into two bit
+    /// sets: those whose reach along the ray (their box, or for an unbounded
+    /// child the span between its first and last crossing) overlaps no other
+    /// child's, and the rest. Within a union, a lone child's surfaces are the
+    /// result's as they stand (nothing else is inside there), so it can be
+    /// asked for its nearest hit directly; only the rest need the sweep.
+    /// Other operations, and unions wider than [`SPLIT_MAX`] (where the
+    /// pairwise test would cost more than it saves), get every child as
+    /// "rest", with nothing alone.
+    fn union_split(&self, ray: &Ray, t_min: f64, t_max: f64, s: &mut Scratch) -> (u64, u64) {
+        let n = self.children.len();
+        if self.op != CsgOp::Union || n > SPLIT_MAX {
+            return (0, if n >= 64 { u64::MAX } else { (1 << n) - 1 });
+        }
+        let inv = ray.dir.recip();
+        let mut lo = [0.0; SPLIT_MAX];
+        let mut hi = [0.0; SPLIT_MAX];
+        let mut live = 0u64;
+        let mut unbounded = 0u64;
+        let mut reach = |i: usize, span: Option<(f64, f64)>, live: &mut u64| {
+            if let Some((a, b)) = span {
+                // Widened like `same_t`, so that reaches that only touch
+                // (a solid standing on the floor) count as overlapping.
+                lo[i] = a - 1e-9 * magnitude(a);
+                hi[i] = b + 1e-9 * magnitude(b);
+                *live |= 1 << i;
+            }
+        };
+        for i in 0..n {
+            match self.reach[i] {
+                Reach::Nowhere => {}
+                Reach::Bounded => reach(
+                    i,
+                    clip(&self.child_bounds[i], ray, inv, t_min, t_max),
+                    &mut live,
+                ),
+                Reach::Unbounded => unbounded |= 1 << i,
+            }
+        }
+        // An unbounded child's reach costs its crossings: not needed when
+        // nothing else is near (the floor seen away from everything else).
+        if live == 0 && unbounded.count_ones() <= 1 {
+            return (unbounded, 0);
+        }
+        for i in bits(unbounded) {
+            reach(i, self.unbounded_reach(i, ray, t_min, t_max, s), &mut live);
+        }
+        if live.count_ones() <= 1 {
+            return (live, 0);
+        }
+        let (mut alone, mut rest) = (0u64, 0u64);
+        for i in bits(live) {
+            if bits(live).all(|j| j == i || hi[j] < lo[i] || hi[i] < lo[j]) {
+                alone |= 1 << i;
+            } else {
+                rest |= 1 << i;
+            }
+        }
+        (alone, rest)
+    }
+
+    /// Where along (t_min, t_max) unbounded child `i` may be inside: from
+    /// its first crossing, if that clearly enters, to its last, if that
+    /// clearly leaves.
+    fn unbounded_reach(
+        &self,
+        i: usize,
+        ray: &Ray,
+        t_min: f64,
+        t_max: f64,
+        s: &mut Scratch,
+    ) -> Option<(f64, f64)> {
+        s.xs.clear();
+        self.children[i].crossings_lite(ray, &mut s.xs);
+        let (a, b) = match (s.xs.first(), s.xs.last()) {
+            (Some(first), Some(last)) => (
+                if !first.grazing && first.facing < 0.0 {
+                    first.t.max(t_min)
+                } else {
+                    t_min
+                },
+                if !last.grazing && last.facing > 0.0 {
+                    last.t.min(t_max)
+                } else {
+                    t_max
+                },
+            ),
+            _ if self.children[i].encloses(ray.origin) => (t_min, t_max),
+            _ => return None,
+        };
+        (a <= b).then_some((a, b))
+    }
+
     /// Whether the line can meet the result within (t_min, t_max) at all.
     fn may_hit(&self, ray: &Ray, t_min: f64, t_max: f64) -> bool {
-        !self.bounds.is_empty() && self.bounds.clip(ray, t_min, t_max).is_some()
+        match self.extent {
+            Reach::Nowhere => false,
+            Reach::Unbounded => true,
+            Reach::Bounded => clip(&self.bounds, ray, ray.dir.recip(), t_min, t_max).is_some(),
+        }
+    }
+}
+
+impl Csg {
+    /// The result's first crossing within (t_min, t_max), as a full hit.
+    fn nearest(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<Hit> {
+        let (alone_hit, swept) = with_scratch(|s| {
+            let (alone, rest) = self.union_split(ray, t_min, t_max, s);
+            let mut found = None;
+            let mut t_best = t_max;
+            for i in bits(alone) {
+                if let Some(h) = self.children[i].intersect(ray, t_min, t_best) {
+                    t_best = h.t;
+                    found = Some(self.tagged(h, i as u32));
+                }
+            }
+            let mut swept = None;
+            if rest != 0 {
+                self.sweep(ray, (t_min, t_best), !rest, s, |c| {
+                    if c.t >= t_best {
+                        return true;
+                    }
+                    if c.t > t_min {
+                        swept = Some(c);
+                        return true;
+                    }
+                    false
+                });
+            }
+            (found, swept)
+        });
+        // Anything the sweep found lies before t_best.
+        swept.map(|c| self.hit_of(ray, &c)).or(alone_hit)
     }
 }
 
@@ -316,45 +538,81 @@ impl Shape for Csg {
         if !self.may_hit(ray, t_min, t_max) {
             return None;
         }
-        let mut found = None;
-        with_scratch(|s| {
-            self.sweep(ray, (t_min, t_max), s, |h| {
-                if h.t >= t_max {
-                    return true;
-                }
-                if h.t > t_min {
-                    found = Some(h);
-                    return true;
-                }
-                false
-            })
-        });
-        found
+        self.nearest(ray, t_min, t_max)
     }
 
     fn occludes(&self, ray: &Ray, t_min: f64, t_max: f64) -> bool {
         if !self.may_hit(ray, t_min, t_max) {
             return false;
         }
-        // Every surface of the result is some child's surface, so when no
-        // child has a crossing in range (the common shadow ray), neither
-        // does the result, and the sweep is not needed.
-        let near = self.children.iter().zip(&self.child_bounds).any(|(c, b)| {
-            !b.is_empty() && b.clip(ray, t_min, t_max).is_some() && c.occludes(ray, t_min, t_max)
-        });
-        near && self.intersect(ray, t_min, t_max).is_some()
+        with_scratch(|s| {
+            let (alone, rest) = self.union_split(ray, t_min, t_max, s);
+            if bits(alone).any(|i| self.children[i].occludes(ray, t_min, t_max)) {
+                return true;
+            }
+            // Every surface of the result is some child's surface, so when no
+            // child has a crossing in range (the common shadow ray), neither
+            // does the result, and the sweep is not needed. (An intersection
+            // or a difference narrows its sweep by its first child at once,
+            // which does the same job.)
+            let near = self.op != CsgOp::Union
+                || bits(rest).any(|i| {
+                    clip(&self.child_bounds[i], ray, ray.dir.recip(), t_min, t_max).is_some()
+                        && self.children[i].occludes(ray, t_min, t_max)
+                });
+            let mut hit = false;
+            if near {
+                self.sweep(ray, (t_min, t_max), !rest, s, |c| {
+                    hit = c.t > t_min && c.t < t_max;
+                    hit || c.t >= t_max
+                });
+            }
+            hit
+        })
     }
 
     fn crossings(&self, ray: &Ray, out: &mut Vec<Hit>) {
+        let mut lite = Vec::new();
+        self.crossings_lite(ray, &mut lite);
+        out.extend(lite.iter().map(|c| self.hit_of(ray, c)));
+    }
+
+    fn crossings_lite(&self, ray: &Ray, out: &mut Vec<Crossing>) {
         if !self.may_hit(ray, f64::NEG_INFINITY, f64::INFINITY) {
             return;
         }
         with_scratch(|s| {
-            self.sweep(ray, (f64::NEG_INFINITY, f64::INFINITY), s, |h| {
-                out.push(h);
+            self.sweep(ray, (f64::NEG_INFINITY, f64::INFINITY), 0, s, |c| {
+                out.push(c);
                 false
             })
         });
+    }
+
+    /// The key is the child's key with the child's digit added (as in
+    /// [`Hit::path`]); a cutter's surface comes back reversed.
+    fn hit_of(&self, ray: &Ray, c: &Crossing) -> Hit {
+        let n = self.children.len() as u64;
+        if c.key == LOST || n == 0 {
+            // Nested too deep to record: the crossing as it stands.
+            return Hit {
+                t: c.t,
+                normal: ray.dir * c.facing.signum(),
+                local: ray.at(c.t),
+                path: LOST,
+                ..Hit::default()
+            };
+        }
+        let i = (c.key % n) as usize;
+        let inner = Crossing {
+            key: c.key / n,
+            ..*c
+        };
+        let mut h = self.children[i].hit_of(ray, &inner);
+        if self.is_cutter(i) {
+            h.normal = -h.normal;
+        }
+        self.tagged(h, i as u32)
     }
 
     fn bounds(&self) -> Aabb {
@@ -753,6 +1011,129 @@ mod tests {
             seen[h.material as usize] += 1;
         }
         assert!(seen[1] > 20 && seen[2] > 5 && seen[3] > 20, "{seen:?}");
+    }
+
+    #[test]
+    fn lite_crossings_rebuild_the_same_hits() {
+        // Each shape's crossings_lite, made into hits by hit_of, must be its
+        // crossings exactly; the torus uses the trait's default bodies.
+        use crate::shapes::Torus;
+        let turned = |s: Box<dyn Shape>| -> Box<dyn Shape> {
+            Box::new(Transformed::new(
+                s,
+                Transform::rotate(DVec3::new(1.0, 2.0, 0.5), 35.0).unwrap(),
+            ))
+        };
+        let shapes: Vec<Box<dyn Shape>> = vec![
+            sphere(DVec3::new(0.1, 0.0, 0.2), 1.0, 1),
+            cube(-DVec3::ONE, DVec3::new(1.0, 0.5, 1.2), 2),
+            Box::new(Cylinder::new(DVec3::ZERO, 0.8, 1.5, 3, Some([4, 5]))),
+            Box::new(Plane::new(DVec3::new(0.2, 1.0, 0.0), 0.1, 6)),
+            Box::new(Torus::new(1.0, 0.3, 7)),
+            turned(Box::new(Cylinder::new(
+                DVec3::ZERO,
+                0.8,
+                1.5,
+                3,
+                Some([4, 5]),
+            ))),
+            Box::new(Csg::new(
+                CsgOp::Difference,
+                vec![
+                    turned(cube(-DVec3::ONE, DVec3::ONE, 1)),
+                    sphere(DVec3::splat(0.6), 0.8, 2),
+                    Box::new(Torus::new(0.9, 0.2, 3)),
+                ],
+            )),
+        ];
+        let mut seen = 0;
+        for s in &shapes {
+            for r in testing::rays_towards(DVec3::ZERO, 1.2, 200, 69) {
+                let mut lite = Vec::new();
+                s.crossings_lite(&r, &mut lite);
+                let full = xs(&**s, &r);
+                assert_eq!(lite.len(), full.len(), "{s:?} {r:?}");
+                for (c, h) in lite.iter().zip(&full) {
+                    assert_eq!(s.hit_of(&r, c), *h);
+                    assert_eq!(c.facing < 0.0, h.normal.dot(r.dir) < 0.0);
+                }
+                seen += full.len();
+            }
+        }
+        assert!(seen > 1000, "{seen}");
+    }
+
+    #[test]
+    fn union_of_apart_children_agrees_with_the_sweep() {
+        // Children whose reaches along a ray do not overlap are asked for
+        // their nearest hit directly; that must be what the full crossing
+        // list says, in any window, floor included.
+        let floor = || Box::new(Plane::new(DVec3::Y, 0.0, 3)) as Box<dyn Shape>;
+        let u = Csg::new(
+            CsgOp::Union,
+            vec![
+                sphere(DVec3::new(-1.5, 1.0, 0.0), 1.0, 1),
+                cube(DVec3::new(0.5, 0.0, -0.5), DVec3::new(1.5, 2.0, 0.5), 2),
+                floor(),
+                sphere(DVec3::new(1.0, 1.5, 0.0), 0.7, 4),
+            ],
+        );
+        let mut hits = 0;
+        for (k, r) in testing::rays_towards(DVec3::new(0.0, 1.0, 0.0), 2.5, 600, 70)
+            .iter()
+            .enumerate()
+        {
+            let list = xs(&u, r);
+            let lo = if k % 3 == 0 {
+                1e-9
+            } else {
+                7.0 + (k % 7) as f64 * 0.5
+            };
+            let hi = if k % 2 == 0 {
+                f64::INFINITY
+            } else {
+                lo + 1.0 + (k % 5) as f64
+            };
+            let want = list.iter().find(|h| h.t > lo && h.t < hi);
+            let got = u.intersect(r, lo, hi);
+            assert_eq!(got.map(|h| h.t), want.map(|h| h.t), "window {lo}..{hi}");
+            assert_eq!(got.map(|h| h.material), want.map(|h| h.material));
+            assert_eq!(got.map(|h| h.path), want.map(|h| h.path));
+            assert_eq!(u.occludes(r, lo, hi), want.is_some());
+            hits += got.is_some() as usize;
+        }
+        assert!(hits > 300, "{hits}");
+    }
+
+    #[test]
+    fn quick_clip_agrees_with_aabb_clip() {
+        let b = Aabb::new(DVec3::new(-1.0, 0.0, -0.5), DVec3::new(1.0, 2.0, 0.5));
+        let mut rays = testing::rays_towards(DVec3::new(0.0, 1.0, 0.0), 2.0, 500, 71);
+        // Axis-parallel, one of them in the plane of a face.
+        rays.push(Ray::new(DVec3::new(0.0, 1.0, -5.0), DVec3::Z));
+        rays.push(Ray::new(DVec3::new(1.0, 1.0, -5.0), DVec3::Z));
+        rays.push(Ray::new(DVec3::new(3.0, 1.0, -5.0), DVec3::Z));
+        let mut hits = 0;
+        for r in &rays {
+            for (lo, hi) in [(0.0, f64::INFINITY), (9.0, 10.0), (f64::NEG_INFINITY, 9.5)] {
+                let (a, b2) = (clip(&b, r, r.dir.recip(), lo, hi), b.clip(r, lo, hi));
+                if r.dir.cmpne(DVec3::ZERO).all() {
+                    assert_eq!(a, b2, "{r:?} {lo}..{hi}");
+                } else if let Some((x, y)) = b2 {
+                    // Along a face's plane: at least Aabb::clip's stretch.
+                    let (p, q) = a.unwrap();
+                    assert!(p <= x && q >= y, "{r:?} {lo}..{hi}");
+                }
+                hits += a.is_some() as usize;
+            }
+        }
+        // The line in the plane x = 1 (of the face) still meets the box.
+        let along = Ray::new(DVec3::new(1.0, 1.0, -5.0), DVec3::Z);
+        assert_eq!(
+            clip(&b, &along, along.dir.recip(), 0.0, 99.0),
+            Some((4.5, 5.5))
+        );
+        assert!(hits > 300, "{hits}");
     }
 
     /// Renders `objects` with a camera and a light at `eye`, looking along +x.

@@ -10,7 +10,7 @@
 //! u = (x − min.x)/W, v = (z − min.z)/D; left/right u = (y − min.y)/H,
 //! v = (z − min.z)/D.
 
-use super::{Hit, Shape};
+use super::{Crossing, Hit, Shape};
 use crate::geometry::{Aabb, DVec2, DVec3, Ray};
 use crate::scene::MaterialId;
 
@@ -27,6 +27,20 @@ pub struct Cuboid {
 struct Face {
     axis: usize,
     high: bool,
+}
+
+impl Face {
+    fn normal(self) -> DVec3 {
+        let mut normal = DVec3::ZERO;
+        normal[self.axis] = if self.high { 1.0 } else { -1.0 };
+        normal
+    }
+
+    /// The crossing at `t`, its key the face (axis · 2 + high).
+    fn crossing(self, ray: &Ray, t: f64) -> Crossing {
+        let key = (self.axis as u64) << 1 | self.high as u64;
+        Crossing::new(t, self.normal(), ray, key)
+    }
 }
 
 impl Cuboid {
@@ -99,8 +113,7 @@ impl Cuboid {
 
     fn hit_at(&self, ray: &Ray, t: f64, face: Face) -> Hit {
         let p = ray.at(t);
-        let mut normal = DVec3::ZERO;
-        normal[face.axis] = if face.high { 1.0 } else { -1.0 };
+        let normal = face.normal();
         let size = (self.max - self.min).max(DVec3::splat(f64::MIN_POSITIVE));
         let rel = (p - self.min) / size;
         let (uv, material) = match (face.axis, face.high) {
@@ -145,6 +158,21 @@ impl Shape for Cuboid {
             out.push(self.hit_at(ray, t0, f0));
             out.push(self.hit_at(ray, t1, f1));
         }
+    }
+
+    fn crossings_lite(&self, ray: &Ray, out: &mut Vec<Crossing>) {
+        if let Some(((t0, f0), (t1, f1))) = self.slabs(ray) {
+            out.push(f0.crossing(ray, t0));
+            out.push(f1.crossing(ray, t1));
+        }
+    }
+
+    fn hit_of(&self, ray: &Ray, c: &Crossing) -> Hit {
+        let face = Face {
+            axis: (c.key >> 1) as usize % 3,
+            high: c.key & 1 == 1,
+        };
+        self.hit_at(ray, c.t, face)
     }
 
     fn bounds(&self) -> Aabb {

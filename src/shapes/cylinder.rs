@@ -12,7 +12,7 @@
 //! u = (x − c.x + r)/2r, v = (z − c.z + r)/2r.
 
 use super::cone::Frustum;
-use super::{Hit, Shape};
+use super::{Crossing, Hit, Shape};
 use crate::geometry::{Aabb, DVec2, DVec3, Ray};
 use crate::scene::MaterialId;
 
@@ -42,6 +42,15 @@ impl Shape for Cylinder {
     }
     fn crossings(&self, ray: &Ray, out: &mut Vec<Hit>) {
         self.frustum.crossings(ray, out)
+    }
+    fn occludes(&self, ray: &Ray, t_min: f64, t_max: f64) -> bool {
+        self.frustum.occludes(ray, t_min, t_max)
+    }
+    fn crossings_lite(&self, ray: &Ray, out: &mut Vec<Crossing>) {
+        self.frustum.crossings_lite(ray, out)
+    }
+    fn hit_of(&self, ray: &Ray, c: &Crossing) -> Hit {
+        self.frustum.hit_of(ray, c)
     }
     fn bounds(&self) -> Aabb {
         self.frustum.bounds()

@@ -64,6 +64,39 @@ pub struct Hit {
     pub path: u64,
 }
 
+/// A crossing without its shading data, for constructive solid geometry,
+/// which looks at every crossing along a line but shades at most one: the
+/// full [`Hit`] is made only for that one, by [`Shape::hit_of`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Crossing {
+    pub t: f64,
+    /// normal·dir with the outward normal: negative entering, positive
+    /// leaving (the same in every space an affine transform maps to).
+    pub facing: f64,
+    /// So nearly along the surface that the sign of `facing` is noise (the
+    /// double root of a tangent ray).
+    pub grazing: bool,
+    /// The shape's own note of which crossing this is, for `hit_of`.
+    pub key: u64,
+}
+
+impl Crossing {
+    /// The crossing at `t` with outward normal `n` (any length) on `ray`.
+    pub fn new(t: f64, n: DVec3, ray: &Ray, key: u64) -> Crossing {
+        let facing = n.dot(ray.dir);
+        Crossing {
+            t,
+            facing,
+            grazing: facing * facing <= 1e-18 * n.length_squared() * ray.dir.length_squared(),
+            key,
+        }
+    }
+}
+
+thread_local! {
+    static LITE_TMP: std::cell::Cell<Vec<Hit>> = const { std::cell::Cell::new(Vec::new()) };
+}
+
 /// A surface the renderer can trace.
 pub trait Shape: Send + Sync + std::fmt::Debug {
     /// The nearest hit with `t_min < t < t_max`.
@@ -79,6 +112,33 @@ pub trait Shape: Send + Sync + std::fmt::Debug {
     /// too), appended to `out` in increasing `t`. For a closed solid they
     /// alternate entering / leaving, which the sign of `normal · dir` tells.
     fn crossings(&self, ray: &Ray, out: &mut Vec<Hit>);
+
+    /// [`Shape::crossings`] without shading data. The default makes the full
+    /// hits and keeps each one's place in the list as its key; shapes that
+    /// CSG meets often make their crossings directly.
+    fn crossings_lite(&self, ray: &Ray, out: &mut Vec<Crossing>) {
+        let mut hits = LITE_TMP.take();
+        hits.clear();
+        self.crossings(ray, &mut hits);
+        out.extend(
+            hits.iter()
+                .enumerate()
+                .map(|(k, h)| Crossing::new(h.t, h.normal, ray, k as u64)),
+        );
+        LITE_TMP.set(hits);
+    }
+
+    /// The full hit of a crossing that [`Shape::crossings_lite`] gave for
+    /// the same ray. The default finds it again in the list of hits.
+    fn hit_of(&self, ray: &Ray, c: &Crossing) -> Hit {
+        let mut hits = Vec::new();
+        self.crossings(ray, &mut hits);
+        hits.get(c.key as usize).copied().unwrap_or(Hit {
+            t: c.t,
+            normal: ray.dir * c.facing.signum(),
+            ..Hit::default()
+        })
+    }
 
     /// A box around the shape in its own space; `Aabb::INFINITE` when
     /// unbounded.

@@ -7,7 +7,7 @@
 //! ```
 //! Texture space: u = x, v = y in the plane's own frame (unbounded).
 
-use super::{Hit, Shape};
+use super::{Crossing, Hit, Shape};
 use crate::geometry::{Aabb, DVec2, DVec3, Ray};
 use crate::scene::MaterialId;
 
@@ -69,6 +69,20 @@ impl Shape for Plane {
         if let Some(t) = self.root(ray) {
             out.push(self.hit_at(ray, t));
         }
+    }
+
+    fn occludes(&self, ray: &Ray, t_min: f64, t_max: f64) -> bool {
+        self.root(ray).is_some_and(|t| t > t_min && t < t_max)
+    }
+
+    fn crossings_lite(&self, ray: &Ray, out: &mut Vec<Crossing>) {
+        if let Some(t) = self.root(ray) {
+            out.push(Crossing::new(t, self.normal, ray, 0));
+        }
+    }
+
+    fn hit_of(&self, ray: &Ray, c: &Crossing) -> Hit {
+        self.hit_at(ray, c.t)
     }
 
     fn bounds(&self) -> Aabb {

@@ -6,7 +6,7 @@
 //! Texture space: n = (p − c)/r; u = atan2(n.x, n.z)/2π wrapped to [0, 1),
 //! v = 1 − acos(n.y)/π.
 
-use super::{Hit, Shape, solve_quadratic};
+use super::{Crossing, Hit, Shape, solve_quadratic};
 use crate::geometry::{Aabb, DVec2, DVec3, Ray};
 use crate::scene::MaterialId;
 use std::f64::consts::PI;
@@ -71,6 +71,23 @@ impl Shape for Sphere {
             out.push(self.hit_at(ray, t0));
             out.push(self.hit_at(ray, t1));
         }
+    }
+
+    fn occludes(&self, ray: &Ray, t_min: f64, t_max: f64) -> bool {
+        self.roots(ray)
+            .is_some_and(|(t0, t1)| (t0 > t_min && t0 < t_max) || (t1 > t_min && t1 < t_max))
+    }
+
+    fn crossings_lite(&self, ray: &Ray, out: &mut Vec<Crossing>) {
+        if let Some((t0, t1)) = self.roots(ray) {
+            for t in [t0, t1] {
+                out.push(Crossing::new(t, ray.at(t) - self.centre, ray, 0));
+            }
+        }
+    }
+
+    fn hit_of(&self, ray: &Ray, c: &Crossing) -> Hit {
+        self.hit_at(ray, c.t)
     }
 
     fn bounds(&self) -> Aabb {

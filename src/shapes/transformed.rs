@@ -3,7 +3,7 @@
 //! transpose. Nested transforms are composed by the builder, so a shape has
 //! at most one of these around it.
 
-use super::{Hit, Shape};
+use super::{Crossing, Hit, Shape};
 use crate::geometry::{Aabb, Ray, Transform};
 
 #[derive(Debug)]
@@ -53,6 +53,16 @@ impl Shape for Transformed {
         for h in &mut out[start..] {
             *h = self.to_world(*h);
         }
+    }
+
+    /// t and normal·dir are the same in both spaces, so the inner shape's
+    /// crossings stand as they are.
+    fn crossings_lite(&self, ray: &Ray, out: &mut Vec<Crossing>) {
+        self.inner.crossings_lite(&self.local_ray(ray), out);
+    }
+
+    fn hit_of(&self, ray: &Ray, c: &Crossing) -> Hit {
+        self.to_world(self.inner.hit_of(&self.local_ray(ray), c))
     }
 
     fn bounds(&self) -> Aabb {
