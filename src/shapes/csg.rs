@@ -386,6 +386,31 @@ impl Csg {
         }
     }
 
+    /// A crossing nested too deep for its key to fit 64 bits is found again
+    /// by its t among the children's own crossings: the same arithmetic gave
+    /// the same t. Only (u, v) stays lost (its path did not fit either).
+    fn find_lost(&self, ray: &Ray, c: &Crossing) -> Hit {
+        let mut list = Vec::new();
+        for (i, child) in self.children.iter().enumerate() {
+            list.clear();
+            child.crossings_lite(ray, &mut list);
+            if let Some(inner) = list.iter().find(|x| x.t == c.t) {
+                let mut h = child.hit_of(ray, inner);
+                if self.is_cutter(i) {
+                    h.normal = -h.normal;
+                }
+                return Hit { path: LOST, ..h };
+            }
+        }
+        Hit {
+            t: c.t,
+            normal: ray.dir * c.facing.signum(),
+            local: ray.at(c.t),
+            path: LOST,
+            ..Hit::default()
+        }
+    }
+
     /// The hit as the result reports it: `child`'s digit added to its path.
     /// A path too deep for 64 bits becomes `LOST` (its (u, v) read as zero).
     fn tagged(&self, mut h: Hit, child: u32) -> Hit {
@@ -594,14 +619,7 @@ impl Shape for Csg {
     fn hit_of(&self, ray: &Ray, c: &Crossing) -> Hit {
         let n = self.children.len() as u64;
         if c.key == LOST || n == 0 {
-            // Nested too deep to record: the crossing as it stands.
-            return Hit {
-                t: c.t,
-                normal: ray.dir * c.facing.signum(),
-                local: ray.at(c.t),
-                path: LOST,
-                ..Hit::default()
-            };
+            return self.find_lost(ray, c);
         }
         let i = (c.key % n) as usize;
         let inner = Crossing {
@@ -1011,6 +1029,25 @@ mod tests {
             seen[h.material as usize] += 1;
         }
         assert!(seen[1] > 20 && seen[2] > 5 && seen[3] > 20, "{seen:?}");
+    }
+
+    #[test]
+    fn nesting_too_deep_for_the_key_keeps_the_material() {
+        // 70 unions of three children nest 3^70 > 2^64 keys deep: the key
+        // overflows, and the hit must still be the right surface. The other
+        // spheres lie further along the ray, so that every union sweeps.
+        let mut s: Box<dyn Shape> = sphere(DVec3::ZERO, 1.0, 9);
+        for k in 0..70 {
+            let far = |m| sphere(DVec3::new(0.0, 0.0, -3.0 - k as f64), 0.5, m);
+            s = Box::new(Csg::new(CsgOp::Union, vec![far(1), s, far(2)]));
+        }
+        let r = Ray::new(DVec3::new(0.3, 0.2, 5.0), DVec3::new(0.0, 0.0, -1.0));
+        let h = s.intersect(&r, 1e-9, f64::INFINITY).expect("the sphere");
+        assert_eq!(h.material, 9);
+        let want = 5.0 - (1.0f64 - 0.09 - 0.04).sqrt();
+        assert!((h.t - want).abs() < 1e-12, "{}", h.t);
+        let p = r.at(h.t);
+        assert!((h.normal.normalize() - p).length() < 1e-9, "{:?}", h.normal);
     }
 
     #[test]
