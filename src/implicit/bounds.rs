@@ -21,6 +21,15 @@ use super::ray_poly::CAP;
 use super::solve::roots_in;
 use crate::geometry::{Aabb, DVec3};
 
+/// `out[k] = x^k`.
+fn powers(x: f64, out: &mut [f64]) {
+    let mut p = 1.0;
+    for o in out {
+        *o = p;
+        p *= x;
+    }
+}
+
 pub fn auto_box(eq: &Equation) -> Option<Aabb> {
     let r = proven_half_size(eq)?;
     let cube = Aabb::new(DVec3::splat(-r), DVec3::splat(r));
@@ -105,24 +114,37 @@ fn proven_half_size(eq: &Equation) -> Option<f64> {
 
 /// The extent of the roots found on a grid of lines through `bx`, padded
 /// by two cells, within `bx`.
+///
+/// Each line runs along an axis, so the polynomial on it is read straight
+/// off the terms with the coordinate itself as the unknown (a term
+/// c·x^a·y^b·z^c adds c·y^b·z^c to the coefficient of x^a): no binomial
+/// expansion, which for a high-degree equation with many terms is what
+/// made this step cost a second.
 fn tighten(eq: &Equation, bx: Aabb) -> Aabb {
     let g = 48;
     let cell = bx.extent() / g as f64;
-    let centre = bx.centre();
     let mut found = Aabb::EMPTY;
+    let n = eq.degree as usize;
     let mut c = [0.0; CAP];
+    let (mut pu, mut pv) = ([0.0; CAP], [0.0; CAP]);
     for axis in 0..3 {
         let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
+        let (lo, hi) = (bx.min[axis], bx.max[axis]);
+        let eps = 1e-12 * (hi - lo).max(f64::MIN_POSITIVE);
         for i in 0..=g {
             for j in 0..=g {
-                let mut o = centre;
+                let mut o = DVec3::ZERO;
                 o[u] = bx.min[u] + i as f64 * cell[u];
                 o[v] = bx.min[v] + j as f64 * cell[v];
-                let mut d = DVec3::ZERO;
-                d[axis] = 0.5 * bx.extent()[axis];
-                let n = eq.value.along(o, d, &mut c);
-                roots_in(&c[..n], -1.0, 1.0, 1e-12, |s| {
-                    let p = o + s * d;
+                powers(o[u], &mut pu[..=n]);
+                powers(o[v], &mut pv[..=n]);
+                c[..=n].fill(0.0);
+                for (e, k) in &eq.terms {
+                    c[e[axis] as usize] += k * pu[e[u] as usize] * pv[e[v] as usize];
+                }
+                roots_in(&c[..=n], lo, hi, eps, |t| {
+                    let mut p = o;
+                    p[axis] = t;
                     if eq.on_written_branch(p) {
                         found = found.grow(p);
                     }
