@@ -91,7 +91,7 @@ const BINS: usize = 32;
 /// Nodes with fewer items try every box face as a plane.
 const EXACT_BELOW: usize = 12;
 /// Nodes with more items build their two halves in parallel.
-const PARALLEL_ABOVE: usize = 4096;
+const PARALLEL_ABOVE: usize = 1024;
 
 /// Tuning of the SAH build.
 #[derive(Clone, Copy, Debug)]
@@ -597,22 +597,32 @@ impl Builder<'_> {
                 continue;
             }
             // `cost` without its constant terms, so that the sweep (a tenth
-            // of the whole build) is a few multiplications per plane.
+            // of the whole build) is a few multiplications per plane: the
+            // counts first, then the costs without a branch (vectorised),
+            // then the first cheapest plane.
             let (cap, ring, lo, hi) = (f.cap[axis], f.ring[axis], f.min[axis], f.max[axis]);
-            let (mut below, mut above) = (0usize, n);
-            for k in 1..BINS {
-                below += lo_count[axis][k - 1] as usize;
-                above -= hi_count[axis][k - 1] as usize;
-                let split = bmin[axis] + w * k as f64 * (1.0 / BINS as f64);
+            let (mut below, mut above) = ([0f64; BINS - 1], [0f64; BINS - 1]);
+            let (mut nb, mut na) = (0u32, n as u32);
+            for k in 0..BINS - 1 {
+                nb += lo_count[axis][k];
+                na -= hi_count[axis][k];
+                below[k] = nb as f64;
+                above[k] = na as f64;
+            }
+            let plane = |k: usize| bmin[axis] + w * (k + 1) as f64 * (1.0 / BINS as f64);
+            let mut sah = [0f64; BINS - 1];
+            for k in 0..BINS - 1 {
+                let split = plane(k);
                 let area_b = cap + (split - lo) * ring;
                 let area_a = cap + (hi - split) * ring;
-                let mut sah = area_b * below as f64 + area_a * above as f64;
-                if below == 0 || above == 0 {
-                    sah *= empty_scale;
-                }
-                if sah < best_sah {
-                    best_sah = sah;
-                    best = Some((axis, split));
+                let s = area_b * below[k] + area_a * above[k];
+                let empty = below[k] == 0.0 || above[k] == 0.0;
+                sah[k] = if empty { s * empty_scale } else { s };
+            }
+            for (k, &s) in sah.iter().enumerate() {
+                if s < best_sah {
+                    best_sah = s;
+                    best = Some((axis, plane(k)));
                 }
             }
         }
@@ -682,7 +692,20 @@ fn narrow(it: &mut Item, clipped: Option<Aabb>) {
     let Some(c) = clipped else { return };
     let [cmin, cmax] = box6(&c);
     for k in 0..3 {
-        let (lo, hi) = (it.b[0][k].max(cmin[k]), it.b[1][k].min(cmax[k]));
+        // Comparisons rather than `max` and `min`: no NaN reaches here,
+        // and their NaN handling doubled the cost of this loop.
+        let (lo, hi) = (
+            if cmin[k] > it.b[0][k] {
+                cmin[k]
+            } else {
+                it.b[0][k]
+            },
+            if cmax[k] < it.b[1][k] {
+                cmax[k]
+            } else {
+                it.b[1][k]
+            },
+        );
         // Both boxes hold all of the item in the cell, so they meet
         // unless the item only touches the cell within rounding: then
         // trust the clipped box.

@@ -326,10 +326,12 @@ fn split_triangle(tri: [DVec3; 3], cell: &Aabb, axis: usize, split: f64) -> [Opt
     let poly = &bufs[cur][..n];
     let side = |keep_above: bool, plane: f64, child: &Aabb| {
         let (mut bmin, mut bmax) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+        // Plain comparisons, not `f64::min`: the corners are finite, and
+        // the NaN handling of `min` and `max` was a third of this closure.
         half_space(poly, axis, plane, keep_above, |p| {
             for j in 0..3 {
-                bmin[j] = bmin[j].min(p[j]);
-                bmax[j] = bmax[j].max(p[j]);
+                bmin[j] = if p[j] < bmin[j] { p[j] } else { bmin[j] };
+                bmax[j] = if p[j] > bmax[j] { p[j] } else { bmax[j] };
             }
         });
         (bmin[0] <= bmax[0]).then(|| Aabb {
