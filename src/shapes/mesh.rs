@@ -288,48 +288,22 @@ fn split_triangle(tri: [DVec3; 3], cell: &Aabb, axis: usize, split: f64) -> [Opt
         tri[0].min(tri[1]).min(tri[2]).to_array(),
         tri[0].max(tri[1]).max(tri[2]).to_array(),
     );
-    // A triangle cut by six planes keeps at most nine corners. Two buffers
-    // used in turn: copying the polygon after each plane cost more than
-    // the clipping itself.
-    let mut bufs = [[[0f64; 3]; 9]; 2];
-    for (p, v) in bufs[0].iter_mut().zip(tri) {
-        *p = v.to_array();
-    }
-    let (mut n, mut cur) = (3, 0);
+    let corners = tri.map(|v| v.to_array());
+    let mut crossed = false;
     for a in 0..3 {
         if tmax[a] < lo[a] || tmin[a] > hi[a] {
             return [None, None];
         }
-        for (plane, keep_above) in [(lo[a], true), (hi[a], false)] {
-            // Only the planes the triangle crosses can cut it.
-            if (keep_above && tmin[a] >= plane) || (!keep_above && tmax[a] <= plane) {
-                continue;
-            }
-            let [a_buf, b_buf] = &mut bufs;
-            let (src, dst) = if cur == 0 {
-                (&*a_buf, b_buf)
-            } else {
-                (&*b_buf, a_buf)
-            };
-            let mut m = 0;
-            half_space(&src[..n], a, plane, keep_above, |p| {
-                dst[m] = p;
-                m += 1;
-            });
-            if m == 0 {
-                return [None, None];
-            }
-            n = m;
-            cur ^= 1;
-        }
+        crossed |= tmin[a] < lo[a] || tmax[a] > hi[a];
     }
-    let poly = &bufs[cur][..n];
-    let side = |keep_above: bool, plane: f64, child: &Aabb| {
+    let side = |poly: &[[f64; 3]], keep_above: bool, plane: f64, child: &Aabb| {
         let (mut bmin, mut bmax) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+        // Plain comparisons, not `f64::min`: the corners are finite, and
+        // the NaN handling of `min` and `max` was a third of this closure.
         half_space(poly, axis, plane, keep_above, |p| {
             for j in 0..3 {
-                bmin[j] = bmin[j].min(p[j]);
-                bmax[j] = bmax[j].max(p[j]);
+                bmin[j] = if p[j] < bmin[j] { p[j] } else { bmin[j] };
+                bmax[j] = if p[j] > bmax[j] { p[j] } else { bmax[j] };
             }
         });
         (bmin[0] <= bmax[0]).then(|| Aabb {
@@ -340,10 +314,50 @@ fn split_triangle(tri: [DVec3; 3], cell: &Aabb, axis: usize, split: f64) -> [Opt
     let (mut below, mut above) = (*cell, *cell);
     below.max[axis] = split;
     above.min[axis] = split;
-    [
-        side(false, split + pad, &below),
-        side(true, split - pad, &above),
-    ]
+    let sides = |poly: &[[f64; 3]]| {
+        [
+            side(poly, false, split + pad, &below),
+            side(poly, true, split - pad, &above),
+        ]
+    };
+    // Most triangles lie inside the cell: they need no clipping (and no
+    // buffers, whose zeroing was a tenth of the cost).
+    if !crossed {
+        return sides(&corners);
+    }
+    // A triangle cut by six planes keeps at most nine corners. Two buffers
+    // used in turn: copying the polygon after each plane cost more than
+    // the clipping itself.
+    let mut bufs = [[[0f64; 3]; 9]; 2];
+    let (mut n, mut cur) = (3, 0);
+    bufs[0][..3].copy_from_slice(&corners);
+    {
+        for a in 0..3 {
+            for (plane, keep_above) in [(lo[a], true), (hi[a], false)] {
+                // Only the planes the triangle crosses can cut it.
+                if (keep_above && tmin[a] >= plane) || (!keep_above && tmax[a] <= plane) {
+                    continue;
+                }
+                let [a_buf, b_buf] = &mut bufs;
+                let (src, dst) = if cur == 0 {
+                    (&*a_buf, b_buf)
+                } else {
+                    (&*b_buf, a_buf)
+                };
+                let mut m = 0;
+                half_space(&src[..n], a, plane, keep_above, |p| {
+                    dst[m] = p;
+                    m += 1;
+                });
+                if m == 0 {
+                    return [None, None];
+                }
+                n = m;
+                cur ^= 1;
+            }
+        }
+    }
+    sides(&bufs[cur][..n])
 }
 
 /// One step of Sutherland–Hodgman: the corners of the convex polygon
@@ -364,10 +378,13 @@ fn half_space(
             p[axis] <= plane
         }
     };
-    let n = poly.len();
-    for k in 0..n {
-        let (a, b) = (poly[k], poly[if k + 1 == n { 0 } else { k + 1 }]);
-        let (ia, ib) = (inside(&a), inside(&b));
+    // The edges in the same directions as always (so that the same
+    // points come out), from the closing edge on: the previous corner is
+    // carried rather than fetched again.
+    let Some(&last) = poly.last() else { return };
+    let (mut a, mut ia) = (last, inside(&last));
+    for &b in poly {
+        let ib = inside(&b);
         if ia {
             out(a);
         }
@@ -380,6 +397,7 @@ fn half_space(
             c[axis] = plane;
             out(c);
         }
+        (a, ia) = (b, ib);
     }
 }
 

@@ -579,90 +579,88 @@ mod fast {
         matches!(t, ScalarType::Float | ScalarType::Double)
     }
 
-    /// The crate's number grammar, `[+-]? d+ (. d+)? ([eE] [+-]? d+)?`:
-    /// a token it would refuse must reach it, to be refused there.
-    fn crate_number(s: &[u8]) -> bool {
-        let mut i = 0;
-        let digits = |i: &mut usize| {
+    /// A token read by the crate's number grammar,
+    /// `[+-]? d+ (. d+)? ([eE] [+-]? d+)?`, in one pass that also gathers
+    /// its digits: a token the grammar refuses must reach the crate, to be
+    /// refused there.
+    #[derive(Clone, Copy)]
+    pub(super) struct Num<'a> {
+        text: &'a [u8],
+        neg: bool,
+        /// Only `-`? digits, at most 18 of them: `mant` is the integer.
+        int_ok: bool,
+        /// No `+`, no exponent, at most 19 digits: the value is
+        /// `mant · 10^exp10`.
+        dec_ok: bool,
+        mant: u64,
+        exp10: i32,
+    }
+
+    /// Scans the token starting at `i`, which must end at a blank, a line
+    /// end or the end of the text; returns it and the position after it.
+    #[inline(always)]
+    pub(super) fn scan(b: &[u8], mut i: usize) -> Option<(Num<'_>, usize)> {
+        let start = i;
+        let (mut neg, mut plus) = (false, false);
+        match b.get(i) {
+            Some(b'-') => (neg, i) = (true, i + 1),
+            Some(b'+') => (plus, i) = (true, i + 1),
+            _ => {}
+        }
+        // Digits go into `mant` unchecked: with at most 19 of them it is
+        // exact, and a longer number goes to the standard parser.
+        let digits = |i: &mut usize, mant: &mut u64| {
             let start = *i;
-            while *i < s.len() && s[*i].is_ascii_digit() {
+            while let Some(&c) = b.get(*i) {
+                let d = c.wrapping_sub(b'0');
+                if d > 9 {
+                    break;
+                }
+                *mant = mant.wrapping_mul(10).wrapping_add(d as u64);
                 *i += 1;
             }
-            *i > start
+            *i - start
         };
-        if matches!(s.first(), Some(b'+' | b'-')) {
-            i += 1;
-        }
-        if !digits(&mut i) {
-            return false;
-        }
-        if s.get(i) == Some(&b'.') {
-            i += 1;
-            if !digits(&mut i) {
-                return false;
-            }
-        }
-        if matches!(s.get(i), Some(b'e' | b'E')) {
-            i += 1;
-            if matches!(s.get(i), Some(b'+' | b'-')) {
-                i += 1;
-            }
-            if !digits(&mut i) {
-                return false;
-            }
-        }
-        i == s.len()
-    }
-
-    /// An integer token: an optional `-` and up to 18 digits (no `+`, so
-    /// that an unsigned type never meets a sign the crate might refuse).
-    fn int(s: &[u8]) -> Option<i64> {
-        let (neg, digits) = match s.split_first()? {
-            (b'-', rest) => (true, rest),
-            _ => (false, s),
-        };
-        if digits.is_empty() || digits.len() > 18 {
+        let mut mant = 0u64;
+        let int_digits = digits(&mut i, &mut mant);
+        if int_digits == 0 {
             return None;
         }
-        let mut v = 0i64;
-        for &c in digits {
-            if !c.is_ascii_digit() {
+        let dot = b.get(i) == Some(&b'.');
+        let mut frac_digits = 0;
+        if dot {
+            i += 1;
+            frac_digits = digits(&mut i, &mut mant);
+            if frac_digits == 0 {
                 return None;
             }
-            v = v * 10 + (c - b'0') as i64;
         }
-        Some(if neg { -v } else { v })
-    }
-
-    /// A decimal `[-]digits[.digits]` as (negative, its digits as an
-    /// integer, power of ten), when it has at most 18 significant digits.
-    fn decimal(s: &[u8]) -> Option<(bool, u64, i32)> {
-        let (neg, s) = match s.split_first()? {
-            (b'-', rest) => (true, rest),
-            _ => (false, s),
-        };
-        let (mut m, mut exp, mut digits, mut dot, mut any) = (0u64, 0i32, 0, false, false);
-        for &c in s {
-            match c {
-                b'0'..=b'9' => {
-                    any = true;
-                    // Leading zeros add no precision.
-                    if m != 0 || c != b'0' {
-                        digits += 1;
-                        if digits > 18 {
-                            return None;
-                        }
-                        m = m * 10 + (c - b'0') as u64;
-                    }
-                    if dot {
-                        exp -= 1;
-                    }
-                }
-                b'.' if !dot => dot = true,
-                _ => return None,
+        let exp = matches!(b.get(i), Some(b'e' | b'E'));
+        if exp {
+            i += 1;
+            if matches!(b.get(i), Some(b'+' | b'-')) {
+                i += 1;
+            }
+            let exp_start = i;
+            while b.get(i).is_some_and(u8::is_ascii_digit) {
+                i += 1;
+            }
+            if i == exp_start {
+                return None;
             }
         }
-        any.then_some((neg, m, exp))
+        if !matches!(b.get(i), None | Some(b' ' | b'\t' | b'\n')) {
+            return None;
+        }
+        let num = Num {
+            text: &b[start..i],
+            neg,
+            int_ok: !plus && !dot && !exp && int_digits <= 18,
+            dec_ok: !plus && !exp && int_digits + frac_digits <= 19,
+            mant,
+            exp10: -(frac_digits as i32),
+        };
+        Some((num, i))
     }
 
     /// Powers of ten that are exact in `f64` (up to 1e10 also in `f32`).
@@ -671,31 +669,63 @@ mod fast {
         1e17, 1e18, 1e19, 1e20, 1e21, 1e22,
     ];
 
-    /// Clinger's fast path: when the digits and the power of ten are both
-    /// exact in the type, one multiplication or division rounds correctly,
-    /// giving the standard parser's value. Other numbers go to that parser.
-    pub(super) fn float32(s: &[u8]) -> Option<f32> {
-        if let Some((neg, m, e)) = decimal(s)
-            && m < (1 << 24)
-            && (-10..=10).contains(&e)
-        {
-            let p = POW10[e.unsigned_abs() as usize] as f32;
-            let v = if e < 0 { m as f32 / p } else { m as f32 * p };
-            return Some(if neg { -v } else { v });
+    impl Num<'_> {
+        #[inline]
+        fn int(&self) -> Option<i64> {
+            let v = self.mant as i64;
+            self.int_ok.then_some(if self.neg { -v } else { v })
         }
-        std::str::from_utf8(s).ok()?.parse().ok()
+
+        /// Clinger's fast path: when the digits and the power of ten are
+        /// both exact in the type, one multiplication or division rounds
+        /// correctly, giving the standard parser's value. Other numbers go
+        /// to that parser.
+        #[inline]
+        fn float32(&self) -> Option<f32> {
+            let (m, e) = (self.mant, self.exp10);
+            if self.dec_ok && m < (1 << 24) && (-10..=10).contains(&e) {
+                let p = POW10[e.unsigned_abs() as usize] as f32;
+                let v = if e < 0 { m as f32 / p } else { m as f32 * p };
+                return Some(if self.neg { -v } else { v });
+            }
+            std::str::from_utf8(self.text).ok()?.parse().ok()
+        }
+
+        #[inline]
+        fn float64(&self) -> Option<f64> {
+            let (m, e) = (self.mant, self.exp10);
+            if self.dec_ok && m < (1 << 53) && (-22..=22).contains(&e) {
+                let p = POW10[e.unsigned_abs() as usize];
+                let v = if e < 0 { m as f64 / p } else { m as f64 * p };
+                return Some(if self.neg { -v } else { v });
+            }
+            std::str::from_utf8(self.text).ok()?.parse().ok()
+        }
     }
 
-    pub(super) fn float64(s: &[u8]) -> Option<f64> {
-        if let Some((neg, m, e)) = decimal(s)
-            && m < (1 << 53)
-            && (-22..=22).contains(&e)
-        {
-            let p = POW10[e.unsigned_abs() as usize];
-            let v = if e < 0 { m as f64 / p } else { m as f64 * p };
-            return Some(if neg { -v } else { v });
+    /// A whole string as a number (for the tests): by the fast path when
+    /// the grammar takes it, else by the standard parser.
+    #[cfg(test)]
+    fn whole(s: &[u8]) -> Option<Num<'_>> {
+        scan(s, 0)
+            .filter(|&(_, end)| end == s.len())
+            .map(|(n, _)| n)
+    }
+
+    #[cfg(test)]
+    pub(super) fn float32(s: &[u8]) -> Option<f32> {
+        match whole(s) {
+            Some(n) => n.float32(),
+            None => std::str::from_utf8(s).ok()?.parse().ok(),
         }
-        std::str::from_utf8(s).ok()?.parse().ok()
+    }
+
+    #[cfg(test)]
+    pub(super) fn float64(s: &[u8]) -> Option<f64> {
+        match whole(s) {
+            Some(n) => n.float64(),
+            None => std::str::from_utf8(s).ok()?.parse().ok(),
+        }
     }
 
     enum Source<'a> {
@@ -744,22 +774,16 @@ mod fast {
             }
         }
 
-        /// The next token of a line: plain number characters only.
-        fn token<'b>(b: &'b [u8], p: &mut usize) -> Option<&'b [u8]> {
+        /// The next token of a line, a number by the crate's grammar.
+        #[inline(always)]
+        fn token<'b>(b: &'b [u8], p: &mut usize) -> Option<Num<'b>> {
             let mut i = *p;
             while i < b.len() && (b[i] == b' ' || b[i] == b'\t') {
                 i += 1;
             }
-            let start = i;
-            while i < b.len() && matches!(b[i], b'0'..=b'9' | b'+' | b'-' | b'.' | b'e' | b'E') {
-                i += 1;
-            }
-            *p = i;
-            if i < b.len() && !matches!(b[i], b' ' | b'\t' | b'\n') {
-                return None;
-            }
-            let s = &b[start..i];
-            crate_number(s).then_some(s)
+            let (num, end) = scan(b, i)?;
+            *p = end;
+            Some(num)
         }
 
         fn bytes<const N: usize>(&mut self) -> Option<[u8; N]> {
@@ -775,18 +799,19 @@ mod fast {
         }
 
         /// A scalar of type `t`, widened to `f64` as the crate's setters do.
+        #[inline(always)]
         fn scalar(&mut self, t: &ScalarType) -> Option<f64> {
             if let Source::Ascii(b, p) = self {
                 let s = Self::token(b, p)?;
                 return Some(match t {
-                    ScalarType::Char => i8::try_from(int(s)?).ok()?.into(),
-                    ScalarType::UChar => u8::try_from(int(s)?).ok()?.into(),
-                    ScalarType::Short => i16::try_from(int(s)?).ok()?.into(),
-                    ScalarType::UShort => u16::try_from(int(s)?).ok()?.into(),
-                    ScalarType::Int => i32::try_from(int(s)?).ok()?.into(),
-                    ScalarType::UInt => u32::try_from(int(s)?).ok()?.into(),
-                    ScalarType::Float => float32(s)?.into(),
-                    ScalarType::Double => float64(s)?,
+                    ScalarType::Char => i8::try_from(s.int()?).ok()?.into(),
+                    ScalarType::UChar => u8::try_from(s.int()?).ok()?.into(),
+                    ScalarType::Short => i16::try_from(s.int()?).ok()?.into(),
+                    ScalarType::UShort => u16::try_from(s.int()?).ok()?.into(),
+                    ScalarType::Int => i32::try_from(s.int()?).ok()?.into(),
+                    ScalarType::UInt => u32::try_from(s.int()?).ok()?.into(),
+                    ScalarType::Float => s.float32()?.into(),
+                    ScalarType::Double => s.float64()?,
                 });
             }
             Some(match t {
@@ -804,7 +829,7 @@ mod fast {
         /// A list's length.
         fn count(&mut self, t: &ScalarType) -> Option<usize> {
             if let Source::Ascii(b, p) = self {
-                return usize::try_from(int(Self::token(b, p)?)?).ok();
+                return usize::try_from(Self::token(b, p)?.int()?).ok();
             }
             if is_float(t) {
                 return None;
