@@ -103,7 +103,9 @@ pub struct MeshData {
     triangles: Vec<[u32; 3]>,
     pre: Vec<TriPre>,
     tree: KdTree,
-    closed: bool,
+    /// Worked out when first asked (CSG asks; a render alone never does):
+    /// its edge sort is a noticeable part of loading a big mesh.
+    closed: std::sync::OnceLock<bool>,
 }
 
 /// Largest PLY file read: 2 GiB holds some 60 million triangles.
@@ -160,15 +162,12 @@ impl MeshData {
             split_triangle([0, 1, 2].map(|k| corner(t, k)), cell, axis, split)
         };
         // The tree's first levels run on one thread: the rest of the set-up
-        // (the edge sort of `is_closed` above all) fills the other.
-        let (tree, (normals, closed)) = rayon::join(
+        // fills the other.
+        let (tree, normals) = rayon::join(
             || KdTree::build_clipped(&boxes, &clip, MESH_TREE),
-            || {
-                let normals = match normals {
-                    Some(n) => n,
-                    None => area_weighted_normals(&positions, &pre, &triangles),
-                };
-                (normals, is_closed(&triangles))
+            || match normals {
+                Some(n) => n,
+                None => area_weighted_normals(&positions, &pre, &triangles),
             },
         );
         drop(boxes);
@@ -180,7 +179,7 @@ impl MeshData {
             triangles,
             pre,
             tree,
-            closed,
+            closed: std::sync::OnceLock::new(),
         }
     }
 
@@ -197,7 +196,7 @@ impl MeshData {
     }
 
     pub fn is_closed(&self) -> bool {
-        self.closed
+        *self.closed.get_or_init(|| is_closed(&self.triangles))
     }
 
     pub fn tree_stats(&self) -> &crate::accel::TreeStats {
@@ -544,7 +543,7 @@ impl Shape for Mesh {
         // A triangle in several leaves is met once per leaf.
         found.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
         found.dedup_by_key(|h| h.1);
-        if d.closed {
+        if d.is_closed() {
             solid_crossings(
                 d,
                 ray,
@@ -576,7 +575,7 @@ impl Shape for Mesh {
     }
 
     fn is_solid(&self) -> bool {
-        self.data.closed
+        self.data.is_closed()
     }
 }
 
