@@ -667,7 +667,7 @@ impl Shape for Csg {
 mod tests {
     use super::*;
     use crate::geometry::Transform;
-    use crate::shapes::{Cuboid, Cylinder, Plane, Sphere, Transformed, testing};
+    use crate::shapes::{Cone, Cuboid, Plane, Sphere, Transformed, testing};
 
     fn sphere(c: DVec3, r: f64, m: u32) -> Box<dyn Shape> {
         Box::new(Sphere::new(c, r, m))
@@ -940,7 +940,7 @@ mod tests {
         // The lantern: (box ∩ sphere) minus three crossed cylinders, turned.
         let cyl = |t: Transform| -> Box<dyn Shape> {
             Box::new(Transformed::new(
-                Box::new(Cylinder::new(DVec3::ZERO, 0.5, 3.0, 2, Some([2, 2]))),
+                Box::new(Cone::cylinder(DVec3::ZERO, 0.5, 3.0, 2, Some([2, 2]))),
                 t,
             ))
         };
@@ -994,7 +994,7 @@ mod tests {
         // A bitten ball in a union with a moved cylinder: each hit's (u, v)
         // must be what the leaf itself gives for that point.
         let ball = Sphere::new(DVec3::ZERO, 1.0, 1);
-        let tube = Cylinder::new(DVec3::ZERO, 0.4, 2.0, 3, Some([4, 4]));
+        let tube = Cone::cylinder(DVec3::ZERO, 0.4, 2.0, 3, Some([4, 4]));
         let moved = Transform::translate(DVec3::new(1.5, 0.0, 0.0));
         let bitten = Csg::new(
             CsgOp::Difference,
@@ -1064,10 +1064,10 @@ mod tests {
         let shapes: Vec<Box<dyn Shape>> = vec![
             sphere(DVec3::new(0.1, 0.0, 0.2), 1.0, 1),
             cube(-DVec3::ONE, DVec3::new(1.0, 0.5, 1.2), 2),
-            Box::new(Cylinder::new(DVec3::ZERO, 0.8, 1.5, 3, Some([4, 5]))),
+            Box::new(Cone::cylinder(DVec3::ZERO, 0.8, 1.5, 3, Some([4, 5]))),
             Box::new(Plane::new(DVec3::new(0.2, 1.0, 0.0), 0.1, 6)),
             Box::new(Torus::new(1.0, 0.3, 7)),
-            turned(Box::new(Cylinder::new(
+            turned(Box::new(Cone::cylinder(
                 DVec3::ZERO,
                 0.8,
                 1.5,

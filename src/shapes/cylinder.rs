@@ -11,63 +11,30 @@
 //! v = (y − c.y)/h + 0.5; caps like discs in the x-z plane,
 //! u = (x − c.x + r)/2r, v = (z − c.z + r)/2r.
 
-use super::cone::Frustum;
-use super::{Crossing, Hit, Shape};
-use crate::geometry::{Aabb, DVec2, DVec3, Ray};
+use super::Cone;
+use crate::geometry::DVec3;
 use crate::scene::MaterialId;
 
-#[derive(Clone, Debug)]
-pub struct Cylinder {
-    frustum: Frustum,
-}
-
-impl Cylinder {
+/// A cylinder is a [`Cone`] whose radii are equal: the cone's code
+/// (intersection, crossings for CSG, shadow rays, texture space) serves both.
+impl Cone {
     /// `caps`: `Some([top, bottom])` for a solid cylinder, `None` for an open tube.
-    pub fn new(
+    pub fn cylinder(
         centre: DVec3,
         radius: f64,
         height: f64,
         side: MaterialId,
         caps: Option<[MaterialId; 2]>,
-    ) -> Self {
-        Cylinder {
-            frustum: Frustum::new(centre, radius, radius, height, side, caps),
-        }
-    }
-}
-
-impl Shape for Cylinder {
-    fn intersect(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<Hit> {
-        self.frustum.intersect(ray, t_min, t_max)
-    }
-    fn crossings(&self, ray: &Ray, out: &mut Vec<Hit>) {
-        self.frustum.crossings(ray, out)
-    }
-    fn occludes(&self, ray: &Ray, t_min: f64, t_max: f64) -> bool {
-        self.frustum.occludes(ray, t_min, t_max)
-    }
-    fn crossings_lite(&self, ray: &Ray, out: &mut Vec<Crossing>) {
-        self.frustum.crossings_lite(ray, out)
-    }
-    fn hit_of(&self, ray: &Ray, c: &Crossing) -> Hit {
-        self.frustum.hit_of(ray, c)
-    }
-    fn bounds(&self) -> Aabb {
-        self.frustum.bounds()
-    }
-    fn is_solid(&self) -> bool {
-        self.frustum.caps.is_some()
-    }
-    fn uv(&self, hit: &Hit) -> DVec2 {
-        self.frustum.uv(hit)
+    ) -> Cone {
+        Cone::new(centre, radius, radius, height, side, caps)
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::DVec2;
-    use crate::shapes::testing;
+    use crate::geometry::{DVec2, Ray};
+    use crate::shapes::{Hit, Shape, testing};
 
     fn hit(s: &dyn Shape, o: DVec3, d: DVec3) -> Option<Hit> {
         s.intersect(&Ray::new(o, d), 1e-9, f64::INFINITY)
@@ -75,7 +42,7 @@ mod tests {
 
     #[test]
     fn side_caps_and_materials() {
-        let c = Cylinder::new(DVec3::new(0.0, 1.0, 0.0), 0.5, 2.0, 1, Some([2, 3]));
+        let c = Cone::cylinder(DVec3::new(0.0, 1.0, 0.0), 0.5, 2.0, 1, Some([2, 3]));
         let h = hit(&c, DVec3::new(0.0, 1.5, 5.0), -DVec3::Z).unwrap();
         assert!((h.t - 4.5).abs() < 1e-12 && h.normal == DVec3::Z && h.material == 1);
         // Side uv: +z is u = 0; y = 1.5 is three quarters up.
@@ -95,7 +62,7 @@ mod tests {
 
     #[test]
     fn open_tube() {
-        let c = Cylinder::new(DVec3::ZERO, 1.0, 2.0, 1, None);
+        let c = Cone::cylinder(DVec3::ZERO, 1.0, 2.0, 1, None);
         assert!(!c.is_solid());
         assert!(hit(&c, DVec3::new(0.0, 5.0, 0.0), -DVec3::Y).is_none());
         // Slanting in through the open top, out through the wall.
@@ -110,7 +77,7 @@ mod tests {
 
     #[test]
     fn solid_crossings_at_rim_are_two() {
-        let c = Cylinder::new(DVec3::ZERO, 1.0, 2.0, 1, Some([2, 3]));
+        let c = Cone::cylinder(DVec3::ZERO, 1.0, 2.0, 1, Some([2, 3]));
         // Exactly through the top rim and out of the bottom cap.
         let r = Ray::new(DVec3::new(-2.0, 2.0, 0.0), DVec3::new(1.0, -1.0, 0.0));
         let mut xs = Vec::new();
@@ -121,7 +88,7 @@ mod tests {
 
     #[test]
     fn degenerate_never_hits() {
-        let c = Cylinder::new(DVec3::ZERO, 0.0, 1.0, 0, Some([0, 0]));
+        let c = Cone::cylinder(DVec3::ZERO, 0.0, 1.0, 0, Some([0, 0]));
         for r in testing::rays_towards(DVec3::ZERO, 0.5, 50, 5) {
             assert!(c.intersect(&r, 0.0, f64::INFINITY).is_none());
         }
@@ -130,8 +97,8 @@ mod tests {
     #[test]
     fn properties() {
         let centre = DVec3::new(-1.0, 0.5, 2.0);
-        let solid = Cylinder::new(centre, 1.0, 3.0, 1, Some([2, 3]));
-        let open = Cylinder::new(centre, 1.0, 3.0, 1, None);
+        let solid = Cone::cylinder(centre, 1.0, 3.0, 1, Some([2, 3]));
+        let open = Cone::cylinder(centre, 1.0, 3.0, 1, None);
         for c in [&solid, &open] {
             let rays = testing::rays_towards(centre, 2.0, 500, 21);
             testing::check_consistency(c, &rays);

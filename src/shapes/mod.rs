@@ -23,7 +23,6 @@ mod triangle;
 pub use cone::Cone;
 pub use csg::{Csg, CsgOp};
 pub use cuboid::Cuboid;
-pub use cylinder::Cylinder;
 pub use disc::Disc;
 pub use mesh::{Mesh, MeshData};
 pub use plane::Plane;

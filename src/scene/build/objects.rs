@@ -12,8 +12,8 @@ use crate::lang::ast::{Block, Item, Span, Spanned};
 use crate::lang::diagnostics::{Error, did_you_mean};
 use crate::scene::MaterialId;
 use crate::shapes::{
-    Cone, Csg, CsgOp, Cuboid, Cylinder, Disc, Mesh, MeshData, Plane, Rectangle, Shape, Sphere,
-    Torus, Transformed, Triangle,
+    Cone, Csg, CsgOp, Cuboid, Disc, Mesh, MeshData, Plane, Rectangle, Shape, Sphere, Torus,
+    Transformed, Triangle,
 };
 use std::sync::Arc;
 
@@ -440,7 +440,7 @@ impl Builder<'_> {
                 if kind == "cone" {
                     Box::new(Cone::new(c, r, top_r, h, mat, caps))
                 } else {
-                    Box::new(Cylinder::new(c, r, h, mat, caps))
+                    Box::new(Cone::cylinder(c, r, h, mat, caps))
                 }
             }
             "disc" => {
