@@ -2,6 +2,8 @@
 //! the loader reads a path and guesses the format from the content).
 #![no_main]
 
+mod scratch;
+
 use libfuzzer_sys::fuzz_target;
 use raytrace::scene::Transfer;
 use raytrace::scene::texture::{ImageTexture, UvMapping};
@@ -10,14 +12,7 @@ use std::sync::OnceLock;
 
 fn file() -> &'static PathBuf {
     static FILE: OnceLock<PathBuf> = OnceLock::new();
-    FILE.get_or_init(|| {
-        let base = if std::path::Path::new("/dev/shm").is_dir() {
-            PathBuf::from("/dev/shm")
-        } else {
-            std::env::temp_dir()
-        };
-        base.join(format!("raytrace-fuzz-image-{}.img", std::process::id()))
-    })
+    FILE.get_or_init(|| scratch::scratch_path("raytrace-fuzz-image"))
 }
 
 fuzz_target!(|data: &[u8]| {

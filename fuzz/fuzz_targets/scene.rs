@@ -6,6 +6,8 @@
 //! degenerate geometry reach the shapes, the kd-tree and the shader.
 #![no_main]
 
+mod scratch;
+
 use libfuzzer_sys::fuzz_target;
 use std::path::PathBuf;
 use std::sync::OnceLock;
@@ -13,12 +15,7 @@ use std::sync::OnceLock;
 fn dir() -> &'static PathBuf {
     static DIR: OnceLock<PathBuf> = OnceLock::new();
     DIR.get_or_init(|| {
-        let base = if std::path::Path::new("/dev/shm").is_dir() {
-            PathBuf::from("/dev/shm")
-        } else {
-            std::env::temp_dir()
-        };
-        let d = base.join(format!("raytrace-fuzz-scene-{}", std::process::id()));
+        let d = scratch::scratch_path("raytrace-fuzz-scene");
         std::fs::create_dir_all(&d).unwrap();
         let img = image::RgbImage::from_fn(3, 2, |x, y| image::Rgb([x as u8 * 80, y as u8 * 120, 7]));
         img.save(d.join("tex.png")).unwrap();
