@@ -121,27 +121,26 @@ impl SourceCode for Excerpt {
         after: usize,
     ) -> Result<Box<dyn SpanContents<'a> + 'a>, MietteError> {
         let bytes = self.text.as_bytes();
-        let named = |c: MietteSpanContents<'a>| -> Box<dyn SpanContents<'a> + 'a> {
-            Box::new(MietteSpanContents::new_named(
+        let named = |data: &'a [u8], span: SourceSpan, line: usize, column: usize, lines: usize| {
+            Ok(Box::new(MietteSpanContents::new_named(
                 self.name.clone(),
-                c.data(),
-                *c.span(),
-                c.line(),
-                c.column(),
-                c.line_count(),
-            ))
+                data,
+                span,
+                line,
+                column,
+                lines,
+            )) as Box<dyn SpanContents<'a> + 'a>)
         };
         let full = bytes.read_span(span, before, after)?;
         let longest = full.data().split(|&b| b == b'\n').map(<[u8]>::len).max();
         if longest.unwrap_or(0) <= LONG_LINE {
-            let full = MietteSpanContents::new(
+            return named(
                 full.data(),
                 *full.span(),
                 full.line(),
                 full.column(),
                 full.line_count(),
             );
-            return Ok(named(full));
         }
         // A window on the span's own line, without context lines.
         let text = &*self.text;
@@ -157,14 +156,13 @@ impl SourceCode for Excerpt {
                 .min(line_end),
         );
         let here = bytes.read_span(&(start, 0).into(), 0, 0)?;
-        let window = MietteSpanContents::new(
+        named(
             &bytes[start..end],
             (start, end - start).into(),
             here.line(),
             here.column(),
             1,
-        );
-        Ok(named(window))
+        )
     }
 }
 
