@@ -4,13 +4,17 @@
 //! local = c ⊙ (ambient + Σ visible lights: colour · intensity · max(0, n·l))
 //! pixel = (1 − R)·local + R·reflected
 //! ```
-//! Surfaces are two-sided (the normal is turned towards the ray); shadow and
-//! reflection rays start a small epsilon off the surface on the side the
-//! ray came from, so they neither re-hit the surface nor leak through it.
+//! Surfaces are two-sided: the geometric normal is turned towards the ray,
+//! and the shading normal into the geometric normal's hemisphere. Shadow
+//! and reflection rays start from the hit point moved off the surface by
+//! its error bound (`offset_ray_origin`, see docs/architecture.md,
+//! "Rounding error and ray offsets"), so they neither re-hit the surface
+//! nor leak through it at any scale.
 
 use super::stats::RayCounts;
 use crate::accel::World;
-use crate::geometry::{Ray, surface_epsilon};
+use crate::geometry::rounding::reflect;
+use crate::geometry::{Ray, offset_ray_origin, shadow_ray_to, valid_reflection_normal};
 use crate::scene::{Colour, Scene};
 
 pub struct Tracer<'a> {
@@ -37,24 +41,27 @@ impl<'a> Tracer<'a> {
         if material.texture.reads_uv() {
             hit.uv = object.uv(&hit);
         }
-        let p = ray.at(hit.t);
-        let mut n = hit.normal.normalize_or_zero();
-        if n.dot(ray.dir) > 0.0 {
+        let (p, p_err) = (hit.point, hit.p_error);
+        // The geometric normal decides the side; the shading normal is kept
+        // in its hemisphere.
+        let mut ng = hit.geo_normal.normalize_or_zero();
+        if ng.dot(ray.dir) > 0.0 {
+            ng = -ng;
+        }
+        let mut n = hit.normal.normalize_or(ng);
+        if n.dot(ng) < 0.0 {
             n = -n;
         }
-        let lifted = p + n * surface_epsilon(p);
 
         let mut light = self.scene.ambient;
         for l in &self.scene.lights {
-            let to_light = l.position - lifted;
-            let dist = to_light.length();
-            let dir = to_light / dist;
+            let (origin, dir, reach) = shadow_ray_to(p, p_err, ng, l.position);
             let cos = n.dot(dir);
             if cos <= 0.0 {
                 continue;
             }
             counts.shadow += 1;
-            if !self.world.occludes(&Ray::new(lifted, dir), 0.0, dist) {
+            if !self.world.occludes(&Ray::new(origin, dir), 0.0, reach) {
                 light += l.colour * cos;
             }
         }
@@ -64,8 +71,9 @@ impl<'a> Tracer<'a> {
             return local;
         }
         let reflected = if depth < self.scene.settings.max_depth {
-            let out = ray.dir - 2.0 * ray.dir.dot(n) * n;
-            self.trace(&Ray::new(lifted, out), depth + 1, counts)
+            let out = reflect(ray.dir, valid_reflection_normal(ng, -ray.dir, n));
+            let origin = offset_ray_origin(p, p_err, ng, out);
+            self.trace(&Ray::new(origin, out), depth + 1, counts)
         } else {
             Colour::ZERO
         };

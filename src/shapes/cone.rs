@@ -11,7 +11,8 @@
 //! [0, 1), v = (y − c.y)/h + 0.5; each cap like a disc in its x-z plane,
 //! u = (x − c.x + r)/2r, v = (z − c.z + r)/2r with r that cap's radius.
 
-use super::{Crossing, Hit, Shape, solve_quadratic};
+use super::{Crossing, Hit, Shape, ray_point_error, solve_quadratic};
+use crate::geometry::rounding::gamma;
 use crate::geometry::{Aabb, DVec2, DVec3, Ray};
 use crate::scene::MaterialId;
 use std::f64::consts::PI;
@@ -248,13 +249,53 @@ impl Frustum {
                 (n, cap_uv(q, r), m)
             }
         };
+        let (point, p_error) = self.reproject(ray, t, s);
         Hit {
             t,
             normal,
             uv,
             local: p,
+            point,
+            p_error,
+            geo_normal: normal,
             material,
             path: 0,
+        }
+    }
+
+    /// The hit point put back on its surface, with its error bound. A cap's
+    /// point is snapped to the cap's plane (exact in y). A side point keeps
+    /// its height and has its distance from the axis set to r(y), so the
+    /// error of `t` (large for a grazing ray) no longer matters: what is
+    /// left is the rounding of r(y) and of the rescaling, a few γ of the
+    /// magnitudes involved.
+    fn reproject(&self, ray: &Ray, t: f64, s: Surface) -> (DVec3, DVec3) {
+        let p = ray.at(t);
+        match s {
+            Surface::Top | Surface::Bottom => {
+                let y = if s == Surface::Top { self.y1 } else { self.y0 };
+                let mut err = ray_point_error(ray, t);
+                err.y = 0.0;
+                (DVec3::new(p.x, y, p.z), err)
+            }
+            Surface::Side => {
+                let q = p - self.centre;
+                let rho = q.x.hypot(q.z);
+                let r = self.r0 + self.slope * (p.y - self.y0);
+                if rho == 0.0 || !r.is_finite() || r < 0.0 {
+                    return (
+                        p,
+                        ray_point_error(ray, t) + DVec3::splat(gamma(8) * self.r0.max(self.r1)),
+                    );
+                }
+                let k = r / rho;
+                let q = DVec3::new(q.x * k, q.y, q.z * k);
+                let point = self.centre + q;
+                // r(y): γ₄ of its terms; the scale and the centre's sum a few more.
+                let r_err = gamma(4) * (self.r0.abs() + (self.slope * (p.y - self.y0)).abs());
+                let radial = gamma(6) * q.abs() + DVec3::new(r_err, 0.0, r_err);
+                (point, radial + gamma(1) * point.abs())
+            }
         }
     }
 

@@ -20,7 +20,7 @@
 //! by exactly two triangles.
 
 use super::ply;
-use super::{Hit, Shape};
+use super::{Hit, Shape, ShearedRay, barycentric_point};
 use crate::accel::{BuildParams, KdTree};
 use crate::geometry::{Aabb, DVec2, DVec3, Ray};
 use crate::scene::MaterialId;
@@ -46,38 +46,42 @@ fn where_(line: &Option<usize>, element: &Option<String>) -> String {
     }
 }
 
-/// What the triangle test needs, precomputed: one corner and two edges.
+/// A triangle's corners, copied out of the index so the test reads them
+/// from one place.
 #[derive(Clone, Copy, Debug)]
 struct TriPre {
     v0: DVec3,
-    e1: DVec3,
-    e2: DVec3,
+    v1: DVec3,
+    v2: DVec3,
 }
 
 impl TriPre {
-    /// Möller–Trumbore: `(t, b1, b2)` with barycentrics of corners 1 and 2.
-    /// Edges are inclusive (`>= 0`) so a ray through a shared edge is not
-    /// lost between the two triangles. Works for any non-zero direction.
+    fn e1(&self) -> DVec3 {
+        self.v1 - self.v0
+    }
+
+    fn e2(&self) -> DVec3 {
+        self.v2 - self.v0
+    }
+
+    /// The face's outward normal by the winding, (v1 − v0) × (v2 − v0).
+    fn normal(&self) -> DVec3 {
+        self.e1().cross(self.e2())
+    }
+
+    /// The watertight test ([`ShearedRay`]): `(t, b1, b2)` with the
+    /// barycentrics of corners 1 and 2, edges and corners included, so a ray
+    /// through a shared edge or vertex is never lost between triangles.
     #[inline(always)]
+    fn hit_sheared(&self, ray: &ShearedRay, t_min: f64, t_max: f64) -> Option<(f64, f64, f64)> {
+        let (t, b) = ray.triangle(self.v0, self.v1, self.v2)?;
+        (t > t_min && t < t_max).then_some((t, b[1], b[2]))
+    }
+
+    /// [`TriPre::hit_sheared`] for one ray and one triangle.
+    #[cfg(test)]
     fn hit(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<(f64, f64, f64)> {
-        let p = ray.dir.cross(self.e2);
-        let det = self.e1.dot(p);
-        if det == 0.0 {
-            return None;
-        }
-        let inv = 1.0 / det;
-        let s = ray.origin - self.v0;
-        let b1 = s.dot(p) * inv;
-        if !(0.0..=1.0).contains(&b1) {
-            return None;
-        }
-        let q = s.cross(self.e1);
-        let b2 = ray.dir.dot(q) * inv;
-        if b2 < 0.0 || b1 + b2 > 1.0 {
-            return None;
-        }
-        let t = self.e2.dot(q) * inv;
-        (t > t_min && t < t_max).then_some((t, b1, b2))
+        self.hit_sheared(&ShearedRay::new(ray), t_min, t_max)
     }
 }
 
@@ -144,13 +148,10 @@ impl MeshData {
         let corner = |t: &[u32; 3], k: usize| positions[t[k] as usize];
         let pre: Vec<TriPre> = triangles
             .iter()
-            .map(|t| {
-                let v0 = corner(t, 0);
-                TriPre {
-                    v0,
-                    e1: corner(t, 1) - v0,
-                    e2: corner(t, 2) - v0,
-                }
+            .map(|t| TriPre {
+                v0: corner(t, 0),
+                v1: corner(t, 1),
+                v2: corner(t, 2),
             })
             .collect();
         let boxes: Vec<Aabb> = triangles
@@ -225,25 +226,18 @@ impl MeshData {
     #[inline]
     fn nearest(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<(f64, u32, f64, f64)> {
         let mut rec = (0u32, 0.0, 0.0);
+        let sheared = ShearedRay::new(ray);
         let t = self.tree.nearest(ray, t_min, t_max, |i, best| {
-            let (t, b1, b2) = self.pre[i as usize].hit(ray, t_min, best)?;
+            let (t, b1, b2) = self.pre[i as usize].hit_sheared(&sheared, t_min, best)?;
             rec = (i, b1, b2);
             Some(t)
         })?;
         Some((t, rec.0, rec.1, rec.2))
     }
 
-    fn hit_record(
-        &self,
-        ray: &Ray,
-        t: f64,
-        tri: u32,
-        b1: f64,
-        b2: f64,
-        smooth: bool,
-    ) -> (DVec3, DVec2, DVec3) {
+    fn hit_record(&self, ray: &Ray, t: f64, tri: u32, b1: f64, b2: f64, smooth: bool) -> MeshHit {
         let pre = &self.pre[tri as usize];
-        let geometric = pre.e1.cross(pre.e2);
+        let geometric = pre.normal();
         let idx = self.triangles[tri as usize];
         let b0 = 1.0 - b1 - b2;
         let normal = if smooth {
@@ -264,8 +258,26 @@ impl MeshData {
             }
             None => DVec2::new(b1, b2),
         };
-        (normal, uv, ray.at(t))
+        let (point, p_error) = barycentric_point([pre.v0, pre.v1, pre.v2], [b0, b1, b2]);
+        MeshHit {
+            normal,
+            geometric,
+            uv,
+            local: ray.at(t),
+            point,
+            p_error,
+        }
     }
+}
+
+/// What a mesh's hit record holds beside t and the material.
+struct MeshHit {
+    normal: DVec3,
+    geometric: DVec3,
+    uv: DVec2,
+    local: DVec3,
+    point: DVec3,
+    p_error: DVec3,
 }
 
 /// The boxes around the parts of a triangle inside `cell` below and above
@@ -409,7 +421,7 @@ fn area_weighted_normals(
 ) -> Vec<DVec3> {
     let mut n = vec![DVec3::ZERO; positions.len()];
     for (t, p) in triangles.iter().zip(pre) {
-        let face = p.e1.cross(p.e2);
+        let face = p.normal();
         for &k in t {
             n[k as usize] += face;
         }
@@ -468,7 +480,7 @@ fn solid_crossings(
     let mut inside = false;
     for &(t, tri, b1, b2) in found {
         let pre = &d.pre[tri as usize];
-        let facing = pre.e1.cross(pre.e2).dot(ray.dir);
+        let facing = pre.normal().dot(ray.dir);
         if facing == 0.0 {
             continue;
         }
@@ -478,8 +490,8 @@ fn solid_crossings(
         }
         inside = entering;
         let mut h = hit(t, tri, b1, b2);
-        if (h.normal.dot(ray.dir) < 0.0) != entering {
-            h.normal = -h.normal;
+        if (h.geo_normal.dot(ray.dir) < 0.0) != entering {
+            h = h.flipped();
         }
         out.push(h);
     }
@@ -506,12 +518,15 @@ impl Mesh {
     }
 
     fn hit(&self, ray: &Ray, t: f64, tri: u32, b1: f64, b2: f64) -> Hit {
-        let (normal, uv, local) = self.data.hit_record(ray, t, tri, b1, b2, self.smooth);
+        let h = self.data.hit_record(ray, t, tri, b1, b2, self.smooth);
         Hit {
             t,
-            normal,
-            uv,
-            local,
+            normal: h.normal,
+            uv: h.uv,
+            local: h.local,
+            point: h.point,
+            p_error: h.p_error,
+            geo_normal: h.geometric,
             material: self.material,
             path: 0,
         }
@@ -526,16 +541,21 @@ impl Shape for Mesh {
 
     fn occludes(&self, ray: &Ray, t_min: f64, t_max: f64) -> bool {
         let d = &self.data;
+        let sheared = ShearedRay::new(ray);
         d.tree.any(ray, t_min, t_max, |i| {
-            d.pre[i as usize].hit(ray, t_min, t_max).is_some()
+            d.pre[i as usize]
+                .hit_sheared(&sheared, t_min, t_max)
+                .is_some()
         })
     }
 
     fn crossings(&self, ray: &Ray, out: &mut Vec<Hit>) {
         let d = &self.data;
         let mut found: Vec<(f64, u32, f64, f64)> = Vec::new();
+        let sheared = ShearedRay::new(ray);
         d.tree.along_line(ray, |i| {
-            if let Some((t, b1, b2)) = d.pre[i as usize].hit(ray, f64::NEG_INFINITY, f64::INFINITY)
+            if let Some((t, b1, b2)) =
+                d.pre[i as usize].hit_sheared(&sheared, f64::NEG_INFINITY, f64::INFINITY)
             {
                 found.push((t, i, b1, b2));
             }
@@ -628,8 +648,8 @@ mod tests {
         assert_eq!(d.triangle_count(), 20 * 64);
         assert!(d.is_closed());
         for p in &d.pre {
-            let centre = p.v0 + (p.e1 + p.e2) / 3.0;
-            assert!(p.e1.cross(p.e2).dot(centre) > 0.0, "inward triangle");
+            let centre = p.v0 + (p.e1() + p.e2()) / 3.0;
+            assert!(p.normal().dot(centre) > 0.0, "inward triangle");
         }
         let mesh = Mesh::new(d.clone(), true, 0);
         assert!(mesh.is_solid());
@@ -648,7 +668,7 @@ mod tests {
         let inner = d
             .pre
             .iter()
-            .map(|p| p.e1.cross(p.e2).normalize().dot(p.v0))
+            .map(|p| p.normal().normalize().dot(p.v0))
             .fold(f64::INFINITY, f64::min);
         assert!(inner > 0.99 && inner < 1.0);
         let mesh = Mesh::new(d, false, 0);

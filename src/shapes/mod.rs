@@ -56,11 +56,43 @@ pub struct Hit {
     /// The hit point in the shape's own space (before any transform), for
     /// solid textures that must move with the object.
     pub local: DVec3,
+    /// The hit point in the space of the hit (the world, once out of
+    /// [`Transformed`]), as the shape computed it on its surface (often
+    /// re-projected onto it, so better than `ray.at(t)`). Secondary rays
+    /// start here, moved off by [`crate::geometry::offset_ray_origin`].
+    pub point: DVec3,
+    /// A bound on `point`'s absolute error in each coordinate: the true
+    /// surface point lies within ±`p_error` of it (pbrt-v4's pError).
+    pub p_error: DVec3,
+    /// The outward normal of the surface actually intersected (a mesh's
+    /// face, not its interpolated normal), oriented as `normal` is and not
+    /// necessarily unit length. It decides which side a ray is on and where
+    /// secondary rays start; `normal` is for shading only.
+    pub geo_normal: DVec3,
     pub material: MaterialId,
     /// Which child the hit came from at each enclosing CSG operation, so
     /// that [`Shape::uv`] can ask the shape that made the hit (see
     /// [`Csg`]); 0 outside CSG.
     pub path: u64,
+}
+
+impl Hit {
+    /// The same hit seen from the other side (a CSG cutter's surface, an
+    /// inward-wound mesh): both normals reversed.
+    pub fn flipped(self) -> Hit {
+        Hit {
+            normal: -self.normal,
+            geo_normal: -self.geo_normal,
+            ..self
+        }
+    }
+}
+
+/// The error bound of `ray.at(t)` from rounding alone (t taken as exact):
+/// γ₂ of the magnitudes the sum adds. Shapes that snap or re-project the
+/// point onto their surface need only their own, smaller bound.
+pub(crate) fn ray_point_error(ray: &Ray, t: f64) -> DVec3 {
+    crate::geometry::rounding::gamma(2) * (ray.origin.abs() + (t * ray.dir).abs())
 }
 
 /// A crossing without its shading data, for constructive solid geometry,
@@ -135,6 +167,9 @@ pub trait Shape: Send + Sync + std::fmt::Debug {
         hits.get(c.key as usize).copied().unwrap_or(Hit {
             t: c.t,
             normal: ray.dir * c.facing.signum(),
+            geo_normal: ray.dir * c.facing.signum(),
+            point: ray.at(c.t),
+            p_error: ray_point_error(ray, c.t),
             ..Hit::default()
         })
     }
@@ -162,36 +197,88 @@ pub trait Shape: Send + Sync + std::fmt::Debug {
     }
 }
 
-/// Möller–Trumbore for a flat patch spanned by `e1` and `e2` from
-/// `origin`: the line's (t, u, v) with the point at origin + u·e1 + v·e2,
-/// when 0 ≤ u ≤ 1 and `accept(u, v)` (the patch's shape: a triangle or a
-/// parallelogram). `None` for a line parallel to the patch or a degenerate
-/// patch, whose determinant is zero for every line.
-pub(crate) fn planar_hit(
+/// A ray prepared for the watertight ray/triangle test of Woop, Benthin
+/// and Wald ("Watertight Ray/Triangle Intersection", JCGT 2013): the
+/// coordinates are permuted so that the ray's largest direction component
+/// is z, then sheared so that the ray runs along +z from the origin. A
+/// triangle's corners are moved the same way and the test is 2D: the
+/// signs of three edge functions. An edge shared by two triangles gives
+/// each exactly the negated value of the other's (the same products,
+/// subtracted the other way round), so no ray slips between them, and a
+/// ray through a vertex is caught by every triangle around it.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct ShearedRay {
     origin: DVec3,
-    e1: DVec3,
-    e2: DVec3,
-    ray: &Ray,
-    accept: impl Fn(f64, f64) -> bool,
-) -> Option<(f64, f64, f64)> {
-    let p = ray.dir.cross(e2);
-    let det = e1.dot(p);
-    if det == 0.0 || !det.is_finite() {
-        return None;
+    /// The permutation: kx, ky, kz (kz the dominant axis).
+    k: [usize; 3],
+    /// Shear (−d[kx]/d[kz], −d[ky]/d[kz]) and scale 1/d[kz].
+    sx: f64,
+    sy: f64,
+    sz: f64,
+}
+
+impl ShearedRay {
+    pub fn new(ray: &Ray) -> ShearedRay {
+        let a = ray.dir.abs();
+        let kz = if a.x >= a.y && a.x >= a.z {
+            0
+        } else if a.y >= a.z {
+            1
+        } else {
+            2
+        };
+        let (mut kx, mut ky) = ((kz + 1) % 3, (kz + 2) % 3);
+        // Keep the winding: a mirrored permutation would flip every sign.
+        if ray.dir[kz] < 0.0 {
+            std::mem::swap(&mut kx, &mut ky);
+        }
+        let d = ray.dir;
+        ShearedRay {
+            origin: ray.origin,
+            k: [kx, ky, kz],
+            sx: d[kx] / d[kz],
+            sy: d[ky] / d[kz],
+            sz: 1.0 / d[kz],
+        }
     }
-    let inv = 1.0 / det;
-    let s = ray.origin - origin;
-    let u = s.dot(p) * inv;
-    if !(0.0..=1.0).contains(&u) {
-        return None;
+
+    /// The line's crossing with triangle (v0, v1, v2), edges and corners
+    /// included, at any t: `(t, [b0, b1, b2])` with the barycentric weights
+    /// of the corners. `None` when the line misses, lies in the triangle's
+    /// plane, or the triangle has no area.
+    #[inline(always)]
+    pub fn triangle(&self, v0: DVec3, v1: DVec3, v2: DVec3) -> Option<(f64, [f64; 3])> {
+        let [kx, ky, kz] = self.k;
+        let (a, b, c) = (v0 - self.origin, v1 - self.origin, v2 - self.origin);
+        let (ax, ay) = (a[kx] - self.sx * a[kz], a[ky] - self.sy * a[kz]);
+        let (bx, by) = (b[kx] - self.sx * b[kz], b[ky] - self.sy * b[kz]);
+        let (cx, cy) = (c[kx] - self.sx * c[kz], c[ky] - self.sy * c[kz]);
+        // Edge functions: u the weight of v0 (edge v1-v2), v of v1, w of v2.
+        let u = cx * by - cy * bx;
+        let v = ax * cy - ay * cx;
+        let w = bx * ay - by * ax;
+        if (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0) {
+            return None;
+        }
+        let det = u + v + w;
+        if det == 0.0 || !det.is_finite() {
+            return None;
+        }
+        let t_scaled = u * (self.sz * a[kz]) + v * (self.sz * b[kz]) + w * (self.sz * c[kz]);
+        let inv = 1.0 / det;
+        let t = t_scaled * inv;
+        t.is_finite().then_some((t, [u * inv, v * inv, w * inv]))
     }
-    let q = s.cross(e1);
-    let v = ray.dir.dot(q) * inv;
-    if !accept(u, v) {
-        return None;
-    }
-    let t = e2.dot(q) * inv;
-    t.is_finite().then_some((t, u, v))
+}
+
+/// The point b0·v0 + b1·v1 + b2·v2 of a triangle, with the bound on its
+/// error (pbrt-v4: γ₇ of the sum of the terms' magnitudes). It lies on the
+/// triangle's plane up to that bound, whatever the error of the ray's t.
+pub(crate) fn barycentric_point(v: [DVec3; 3], b: [f64; 3]) -> (DVec3, DVec3) {
+    let terms = [v[0] * b[0], v[1] * b[1], v[2] * b[2]];
+    let p = terms[0] + terms[1] + terms[2];
+    let mag = terms[0].abs() + terms[1].abs() + terms[2].abs();
+    (p, crate::geometry::rounding::gamma(7) * mag)
 }
 
 /// Solves a·t² + b·t + c = 0 (a ≠ 0) without cancellation: the root of the

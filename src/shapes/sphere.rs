@@ -7,6 +7,7 @@
 //! v = 1 − acos(n.y)/π.
 
 use super::{Crossing, Hit, Shape, solve_quadratic};
+use crate::geometry::rounding::gamma;
 use crate::geometry::{Aabb, DVec2, DVec3, Ray};
 use crate::scene::MaterialId;
 use std::f64::consts::PI;
@@ -30,14 +31,33 @@ impl Sphere {
     fn hit_at(&self, ray: &Ray, t: f64) -> Hit {
         let p = ray.at(t);
         let n = (p - self.centre) / self.radius;
+        let (point, p_error) = self.reproject(p);
         Hit {
             t,
             normal: n,
             uv: DVec2::ZERO,
             local: p,
+            point,
+            p_error,
+            geo_normal: n,
             material: self.material,
             path: 0,
         }
+    }
+
+    /// `p` pulled onto the sphere along its radius, with the bound on the
+    /// result's error (pbrt-v4: γ₅ of the offset from the centre, then one
+    /// more rounding to add the centre back). Whatever error `t` had, the
+    /// point is now on the surface up to that bound.
+    fn reproject(&self, p: DVec3) -> (DVec3, DVec3) {
+        let q = p - self.centre;
+        let len = q.length();
+        if len == 0.0 || !len.is_finite() {
+            return (p, DVec3::splat(self.radius.abs()));
+        }
+        let q = q * (self.radius / len);
+        let point = self.centre + q;
+        (point, gamma(5) * q.abs() + gamma(1) * point.abs())
     }
 
     fn roots(&self, ray: &Ray) -> Option<(f64, f64)> {
