@@ -140,8 +140,15 @@ impl Frustum {
         if !self.valid {
             return 0;
         }
-        let o = ray.origin - self.centre;
+        // Re-centred: the line's origin is moved to its closest point to the
+        // centre (t = t_c), so that the quadratic's coefficients are of the
+        // cone's own size even when the ray starts far away (the raw ones
+        // lose the radius from 1e8). The roots are shifted back by t_c.
         let d = ray.dir;
+        let dd = d.length_squared();
+        let f = ray.origin - self.centre;
+        let t_c = if dd > 0.0 { -f.dot(d) / dd } else { 0.0 };
+        let o = f + t_c * d;
         let (y0, y1) = (self.y0 - self.centre.y, self.y1 - self.centre.y);
         let slack = RIM * self.height;
         // Radius where the ray's origin height meets the (extended) surface.
@@ -150,22 +157,24 @@ impl Frustum {
         let a = d.x * d.x + d.z * d.z - k * k * d.y * d.y;
         let b = 2.0 * (o.x * d.x + o.z * d.z - k * r_o * d.y);
         let c = o.x * o.x + o.z * o.z - r_o * r_o;
-        let mut side = |t: f64| {
-            let y = o.y + t * d.y;
+        let mut side = |s: f64| {
+            let y = o.y + s * d.y;
+            let t = t_c + s;
             if t.is_finite() && y >= y0 - slack && y <= y1 + slack {
                 out[n] = (t, Surface::Side);
                 n += 1;
             }
         };
         if a != 0.0 {
-            if let Some((t0, t1)) = solve_quadratic(a, b, c) {
-                side(t0);
-                side(t1);
+            if let Some((s0, s1)) = solve_quadratic(a, b, c) {
+                side(s0);
+                side(s1);
             }
         } else if b != 0.0 {
             // Parallel to the axis (cylinder) or to a generator (cone): one root.
             side(-c / b);
         }
+        let o = ray.origin - self.centre;
         if self.caps.is_some() && d.y != 0.0 {
             for (y, r, s) in [(y1, self.r1, Surface::Top), (y0, self.r0, Surface::Bottom)] {
                 let t = (y - o.y) / d.y;
@@ -375,6 +384,25 @@ mod tests {
 
     fn hit(s: &dyn Shape, o: DVec3, d: DVec3) -> Option<Hit> {
         s.intersect(&Ray::new(o, d), 1e-9, f64::INFINITY)
+    }
+
+    #[test]
+    fn seen_from_1e8_covers_the_analytic_area() {
+        // Side on, a capped cone of radius 1 and height 2 is a triangle of
+        // area r·h = 2, and a cylinder a 2×2 square; the raw quadratic lost
+        // the radius from far away.
+        let cone = Cone::new(DVec3::ZERO, 1.0, 0.0, 2.0, 0, Some([0, 0]));
+        let tube = Cone::new(DVec3::ZERO, 1.0, 1.0, 2.0, 0, Some([0, 0]));
+        for eye in [1e2, 1e8, 1e12] {
+            let at = DVec3::new(0.0, 0.0, eye);
+            let a = testing::silhouette_area(&cone, at, 1.2, 300);
+            assert!((a / 2.0 - 1.0).abs() < 0.01, "cone from {eye}: {a} vs 2");
+            let a = testing::silhouette_area(&tube, at, 1.2, 300);
+            assert!(
+                (a / 4.0 - 1.0).abs() < 0.01,
+                "cylinder from {eye}: {a} vs 4"
+            );
+        }
     }
 
     #[test]

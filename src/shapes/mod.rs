@@ -391,6 +391,23 @@ pub(crate) mod testing {
         checked
     }
 
+    /// The fraction of an n×n grid of rays from `eye` (far away on +z),
+    /// aimed at the points of the square [−half, half]² in the plane z = 0,
+    /// that hit `shape`, times the square's area: the shape's silhouette
+    /// area as seen from `eye` (nearly a parallel projection when far).
+    pub fn silhouette_area(shape: &dyn Shape, eye: DVec3, half: f64, n: usize) -> f64 {
+        let mut hits = 0;
+        for j in 0..n {
+            for i in 0..n {
+                let x = -half + (i as f64 + 0.5) * 2.0 * half / n as f64;
+                let y = -half + (j as f64 + 0.5) * 2.0 * half / n as f64;
+                let ray = Ray::new(eye, (DVec3::new(x, y, 0.0) - eye).normalize());
+                hits += shape.intersect(&ray, 0.0, f64::INFINITY).is_some() as usize;
+            }
+        }
+        hits as f64 / (n * n) as f64 * (2.0 * half).powi(2)
+    }
+
     /// Rays starting outside a solid's bounds cross it an even number of
     /// times, alternately entering (normal against the ray) and leaving.
     pub fn check_alternation(shape: &dyn Shape, rays: &[Ray]) {
