@@ -209,13 +209,24 @@ pub trait Shape: Send + Sync + std::fmt::Debug {
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct ShearedRay {
     origin: DVec3,
-    /// The permutation: kx, ky, kz (kz the dominant axis).
-    k: [usize; 3],
-    /// Shear (−d[kx]/d[kz], −d[ky]/d[kz]) and scale 1/d[kz].
+    /// Which of the six permutations (kx, ky, kz): kz the dominant axis,
+    /// kx and ky in the order that keeps the winding.
+    perm: u8,
+    /// Shear d[kx]/d[kz], d[ky]/d[kz] and scale 1/d[kz].
     sx: f64,
     sy: f64,
     sz: f64,
 }
+
+/// The six permutations, indexed by `ShearedRay::perm`.
+const PERMS: [[usize; 3]; 6] = [
+    [1, 2, 0],
+    [2, 1, 0],
+    [2, 0, 1],
+    [0, 2, 1],
+    [0, 1, 2],
+    [1, 0, 2],
+];
 
 impl ShearedRay {
     pub fn new(ray: &Ray) -> ShearedRay {
@@ -227,15 +238,13 @@ impl ShearedRay {
         } else {
             2
         };
-        let (mut kx, mut ky) = ((kz + 1) % 3, (kz + 2) % 3);
         // Keep the winding: a mirrored permutation would flip every sign.
-        if ray.dir[kz] < 0.0 {
-            std::mem::swap(&mut kx, &mut ky);
-        }
+        let perm = 2 * kz + (ray.dir[kz] < 0.0) as usize;
+        let [kx, ky, _] = PERMS[perm];
         let d = ray.dir;
         ShearedRay {
             origin: ray.origin,
-            k: [kx, ky, kz],
+            perm: perm as u8,
             sx: d[kx] / d[kz],
             sy: d[ky] / d[kz],
             sz: 1.0 / d[kz],
@@ -248,11 +257,29 @@ impl ShearedRay {
     /// plane, or the triangle has no area.
     #[inline(always)]
     pub fn triangle(&self, v0: DVec3, v1: DVec3, v2: DVec3) -> Option<(f64, [f64; 3])> {
-        let [kx, ky, kz] = self.k;
+        // One branch per triangle, the same way for every triangle a ray
+        // meets; each arm reads the coordinates at fixed places.
+        match self.perm {
+            0 => self.test::<1, 2, 0>(v0, v1, v2),
+            1 => self.test::<2, 1, 0>(v0, v1, v2),
+            2 => self.test::<2, 0, 1>(v0, v1, v2),
+            3 => self.test::<0, 2, 1>(v0, v1, v2),
+            4 => self.test::<0, 1, 2>(v0, v1, v2),
+            _ => self.test::<1, 0, 2>(v0, v1, v2),
+        }
+    }
+
+    #[inline(always)]
+    fn test<const KX: usize, const KY: usize, const KZ: usize>(
+        &self,
+        v0: DVec3,
+        v1: DVec3,
+        v2: DVec3,
+    ) -> Option<(f64, [f64; 3])> {
         let (a, b, c) = (v0 - self.origin, v1 - self.origin, v2 - self.origin);
-        let (ax, ay) = (a[kx] - self.sx * a[kz], a[ky] - self.sy * a[kz]);
-        let (bx, by) = (b[kx] - self.sx * b[kz], b[ky] - self.sy * b[kz]);
-        let (cx, cy) = (c[kx] - self.sx * c[kz], c[ky] - self.sy * c[kz]);
+        let (ax, ay) = (a[KX] - self.sx * a[KZ], a[KY] - self.sy * a[KZ]);
+        let (bx, by) = (b[KX] - self.sx * b[KZ], b[KY] - self.sy * b[KZ]);
+        let (cx, cy) = (c[KX] - self.sx * c[KZ], c[KY] - self.sy * c[KZ]);
         // Edge functions: u the weight of v0 (edge v1-v2), v of v1, w of v2.
         let u = cx * by - cy * bx;
         let v = ax * cy - ay * cx;
@@ -264,7 +291,7 @@ impl ShearedRay {
         if det == 0.0 || !det.is_finite() {
             return None;
         }
-        let t_scaled = u * (self.sz * a[kz]) + v * (self.sz * b[kz]) + w * (self.sz * c[kz]);
+        let t_scaled = u * (self.sz * a[KZ]) + v * (self.sz * b[KZ]) + w * (self.sz * c[KZ]);
         let inv = 1.0 / det;
         let t = t_scaled * inv;
         t.is_finite().then_some((t, [u * inv, v * inv, w * inv]))
