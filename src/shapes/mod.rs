@@ -20,6 +20,9 @@ mod torus;
 mod transformed;
 mod triangle;
 
+#[cfg(test)]
+mod offset_tests;
+
 pub use cone::Cone;
 pub use csg::{Csg, CsgOp};
 pub use cuboid::Cuboid;
