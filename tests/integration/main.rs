@@ -4,6 +4,7 @@ mod cli;
 mod csg;
 mod diagnostics;
 mod examples;
+mod geometry;
 mod golden;
 mod hostile;
 mod lang;
