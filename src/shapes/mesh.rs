@@ -22,6 +22,7 @@
 use super::ply;
 use super::{Hit, Shape, ShearedRay, barycentric_point};
 use crate::accel::{BuildParams, KdTree};
+use crate::geometry::rounding::gamma;
 use crate::geometry::{Aabb, DVec2, DVec3, Ray};
 use crate::scene::MaterialId;
 use std::path::Path;
@@ -258,7 +259,23 @@ impl MeshData {
             }
             None => DVec2::new(b1, b2),
         };
-        let (point, p_error) = barycentric_point([pre.v0, pre.v1, pre.v2], [b0, b1, b2]);
+        let corners = [pre.v0, pre.v1, pre.v2];
+        let (mut point, mut p_error) = barycentric_point(corners, [b0, b1, b2]);
+        if smooth {
+            let lift = terminator_lift(
+                point,
+                corners,
+                idx.map(|k| self.normals[k as usize]),
+                [b0, b1, b2],
+                if geometric.dot(ray.dir) > 0.0 {
+                    -geometric
+                } else {
+                    geometric
+                },
+            );
+            point += lift;
+            p_error += gamma(4) * point.abs();
+        }
         MeshHit {
             normal,
             geometric,
@@ -268,6 +285,35 @@ impl MeshData {
             p_error,
         }
     }
+}
+
+/// How far a smooth mesh's hit point is lifted towards the viewer to sit on
+/// the curved surface its vertex normals describe rather than on the flat
+/// facet (Hanika, "Hacking the Shadow Terminator", Ray Tracing Gems II
+/// ch. 4): the point is projected onto each corner's tangent plane where it
+/// lies below it, and the projections are blended by the barycentric
+/// weights. Secondary rays then start from the smooth surface, so a light
+/// that the shading normal faces is not hidden by the facet's own
+/// neighbours, and the shadow terminator follows the surface, not the
+/// facets. `facing` is the geometric normal turned towards the viewer; each
+/// vertex normal is turned to its side.
+fn terminator_lift(
+    p: DVec3,
+    corners: [DVec3; 3],
+    normals: [DVec3; 3],
+    b: [f64; 3],
+    facing: DVec3,
+) -> DVec3 {
+    let mut lift = DVec3::ZERO;
+    for k in 0..3 {
+        let mut n = normals[k].normalize_or_zero();
+        if n.dot(facing) < 0.0 {
+            n = -n;
+        }
+        let below = (p - corners[k]).dot(n).min(0.0);
+        lift -= b[k] * below * n;
+    }
+    if lift.is_finite() { lift } else { DVec3::ZERO }
 }
 
 /// What a mesh's hit record holds beside t and the material.

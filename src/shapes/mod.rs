@@ -63,6 +63,11 @@ pub struct Hit {
     /// [`Transformed`]), as the shape computed it on its surface (often
     /// re-projected onto it, so better than `ray.at(t)`). Secondary rays
     /// start here, moved off by [`crate::geometry::offset_ray_origin`].
+    /// A smooth mesh's point is lifted off its facet towards the incoming
+    /// ray, onto the curved surface its vertex normals describe (Hanika's
+    /// shadow-terminator fix), by at most the facet's sagitta: a ray that
+    /// leaves into the far side (refraction) should start from the facet,
+    /// `ray.at(t)`, instead (not yet needed: no shape is transparent).
     pub point: DVec3,
     /// A bound on `point`'s absolute error in each coordinate: the true
     /// surface point lies within ±`p_error` of it (pbrt-v4's pError).

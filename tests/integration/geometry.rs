@@ -135,3 +135,44 @@ mesh "ico{level}.ply" {{ smooth  material {{ colour rgb(0, 0, 0)  reflect 1 }} }
         assert_eq!(dark, 0, "icosphere level {level}: {dark} dark pixels");
     }
 }
+
+/// A smooth sphere mesh lit from the side: where the analytic sphere is
+/// clearly lit, the mesh must not be black. Shadow rays from the flat
+/// facets used to be blocked by the neighbouring facets wherever the light
+/// was below the facet but above the smooth normal's horizon, a jagged,
+/// facet-shaped terminator (77 such pixels at 200×200 with 1,280 faces).
+#[test]
+fn the_terminator_of_a_smooth_sphere_mesh_follows_the_sphere() {
+    let scene = |object: &str| {
+        format!(
+            r#"
+camera {{ position <0, 0, 4>  look_at <0, 0, 0>  fov 40 }}
+render {{ width 160  height 160  background rgb(0, 0, 1) }}
+ambient rgb(1, 1, 1) intensity 0
+light {{ position <100, 30, 10> }}
+{object}
+"#
+        )
+    };
+    for level in [1, 3] {
+        let mesh = render(&scene(&format!(
+            r#"mesh "ico{level}.ply" {{ smooth  material {{ colour rgb(1, 1, 1) }} }}"#
+        )));
+        let sphere = render(&scene(
+            "sphere { radius 1  material { colour rgb(1, 1, 1) } }",
+        ));
+        let (m, s) = (
+            to_rgb8(&mesh, Transfer::Srgb),
+            to_rgb8(&sphere, Transfer::Srgb),
+        );
+        let wrong = m
+            .pixels()
+            .zip(s.pixels())
+            .filter(|(m, s)| s[0] > 40 && m.0 == [0, 0, 0])
+            .count();
+        assert_eq!(
+            wrong, 0,
+            "icosphere level {level}: {wrong} pixels in false shadow"
+        );
+    }
+}
