@@ -12,6 +12,7 @@
 
 pub mod accel;
 pub mod cli;
+pub mod eval;
 pub mod geometry;
 pub mod guard;
 pub mod implicit;

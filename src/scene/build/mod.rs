@@ -12,7 +12,6 @@
 //! the order written. Constants and named materials can only be used after
 //! they are defined; using one earlier says where it is defined.
 
-mod eval;
 mod objects;
 mod params;
 mod textures;
@@ -20,6 +19,7 @@ mod textures;
 use super::{
     Camera, Colour, Light, Material, Projection, RenderSettings, Scene, Texture, Transfer,
 };
+use crate::eval::expr as eval;
 use crate::geometry::DVec3;
 use crate::lang::Program;
 use crate::lang::ast::{Block, Item, Span, Spanned};

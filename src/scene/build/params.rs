@@ -4,8 +4,8 @@
 //! parameter or the end of the block is "missing its value"; a parameter
 //! given twice is an error (transforms may repeat: they compose).
 
-use super::eval::Env;
 use super::objects;
+use crate::eval::expr::Env;
 use crate::lang::ast::{Block, Item, Span, Spanned};
 use crate::lang::diagnostics::{Error, did_you_mean};
 
