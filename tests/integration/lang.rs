@@ -549,9 +549,12 @@ fn includes_inside_blocks_add_to_the_block() {
     let s = try_build(&p).unwrap();
     assert_eq!(s.objects.len(), 2);
     assert!(close(centre_of(&s, 1), DVec3::new(2.0, 5.0, 0.0)));
+    // A `let` inside a block is local to it.
+    let s = build("sphere { let r = 2  radius r }");
+    assert_eq!(s.objects.len(), 1);
     assert_eq!(
-        errors("sphere { let r = 1 }"),
-        ["`let` is only allowed at the top level"]
+        errors("sphere { let r = 2 }\nsphere { radius r }"),
+        ["unknown name `r`"]
     );
 }
 

@@ -38,7 +38,10 @@ pub const MAX_IMAGE_SIDE: u32 = 16384;
 /// that is stored in 8 or 16 bits unless every surface is a perfect mirror.
 pub const MAX_DEPTH: u32 = 64;
 
-/// Builds the scene, reporting every mistake of the program at once.
+pub use objects::is_object;
+
+/// Evaluates and builds the scene, reporting every mistake of the program
+/// at once.
 pub fn build(program: &Program) -> Result<Scene, Problems> {
     build_with_warnings(program).map(|(scene, _)| scene)
 }
@@ -46,9 +49,21 @@ pub fn build(program: &Program) -> Result<Scene, Problems> {
 /// As [`build`], also giving the warnings: things that render, but perhaps
 /// not as meant or not as fast as they could (each "file:line:col: text").
 pub fn build_with_warnings(program: &Program) -> Result<(Scene, Vec<String>), Problems> {
+    build_with(program, &crate::eval::Options::default())
+}
+
+/// As [`build_with_warnings`], with values from outside the file (`-D`,
+/// `clock`, `frame`) and the evaluation's limits.
+pub fn build_with(
+    program: &Program,
+    options: &crate::eval::Options,
+) -> Result<(Scene, Vec<String>), Problems> {
     let transfer = find_transfer(&program.items);
-    let mut b = Builder::new(program, transfer);
-    b.top_level(&program.items);
+    let evaluated = crate::eval::evaluate(program, transfer, options);
+    let mut b = Builder::new(program, &evaluated.items, transfer);
+    b.env.known = evaluated.known;
+    b.errors = evaluated.errors;
+    b.top_level(&evaluated.items);
     if b.errors.is_empty() {
         Ok((b.scene, b.warnings))
     } else {
@@ -70,25 +85,35 @@ struct Builder<'p> {
     singletons: HashMap<&'static str, Span>,
     /// Meshes by canonical path: one file placed many times is read once.
     meshes: HashMap<PathBuf, Arc<MeshData>>,
+    /// Which loop iteration or call made what is being built.
+    trace: Option<Arc<Vec<String>>>,
+}
+
+/// Every `material NAME` statement of the items, inside generated ones too.
+fn material_names(items: &[Item], out: &mut HashMap<String, Span>) {
+    for (i, item) in items.iter().enumerate() {
+        match item {
+            Item::Traced { items, .. } => material_names(items, out),
+            _ if item.as_name().is_some_and(|n| n.node == "material") => {
+                if let Some(n) = items.get(i + 1).and_then(Item::as_name) {
+                    out.entry(n.node.to_string()).or_insert(n.span);
+                }
+            }
+            _ => {}
+        }
+    }
 }
 
 impl<'p> Builder<'p> {
-    fn new(program: &'p Program, transfer: Transfer) -> Self {
+    fn new(program: &'p Program, items: &[Item], transfer: Transfer) -> Self {
         let mut env = Env::new(transfer);
         let mut all_materials = HashMap::new();
-        for (i, item) in program.items.iter().enumerate() {
-            match item {
-                Item::Let { name, .. } => {
-                    env.all_lets.entry(name.node.clone()).or_insert(name.span);
-                }
-                _ if item.as_name().is_some_and(|n| n.node == "material") => {
-                    if let Some(n) = program.items.get(i + 1).and_then(Item::as_name) {
-                        all_materials.entry(n.node.to_string()).or_insert(n.span);
-                    }
-                }
-                _ => {}
+        for item in &program.items {
+            if let Item::Let { name, .. } | Item::LetItems { name, .. } = item {
+                env.all_lets.entry(name.node.clone()).or_insert(name.span);
             }
         }
+        material_names(items, &mut all_materials);
         env.material_names = all_materials.keys().cloned().collect();
         let settings = RenderSettings {
             transfer,
@@ -111,11 +136,32 @@ impl<'p> Builder<'p> {
             all_materials,
             singletons: HashMap::new(),
             meshes: HashMap::new(),
+            trace: None,
         }
     }
 
-    fn err(&mut self, e: Error) {
+    /// Reports a mistake, saying which loop iteration or call made the
+    /// thing it is in.
+    fn err(&mut self, mut e: Error) {
+        if let Some(t) = &self.trace {
+            let trail = t.join("\n");
+            e.help = Some(match e.help {
+                Some(h) => format!("{h}\n{trail}"),
+                None => trail,
+            });
+        }
         self.errors.push(e);
+    }
+
+    /// Runs `f` with `trace` as the current trace (when there is one).
+    fn traced<T>(&mut self, trace: Option<&Arc<Vec<String>>>, f: impl FnOnce(&mut Self) -> T) -> T {
+        let Some(t) = trace else {
+            return f(self);
+        };
+        let outer = self.trace.replace(t.clone());
+        let out = f(self);
+        self.trace = outer;
+        out
     }
 
     fn warn(&mut self, span: Span, text: impl std::fmt::Display) {
@@ -130,8 +176,8 @@ impl<'p> Builder<'p> {
         while i < items.len() {
             let item = &items[i];
             i += 1;
-            if let Item::Let { name, value, .. } = item {
-                self.define(name, value);
+            if let Item::Traced { trace, items } = item {
+                self.traced(Some(trace), |b| b.top_level(items));
                 continue;
             }
             let Some(kw) = item.as_name() else {
@@ -233,35 +279,6 @@ impl<'p> Builder<'p> {
         true
     }
 
-    fn define(&mut self, name: &Spanned<String>, value: &crate::lang::ast::Expr) {
-        if eval::is_reserved(&name.node) {
-            self.err(
-                Error::new(name.span, format!("`{}` is a built-in name", name.node))
-                    .label("cannot be redefined")
-                    .help("choose another name for the constant"),
-            );
-            return;
-        }
-        if let Some(c) = self.env.constants.get(&name.node) {
-            let first = c.span;
-            self.err(
-                Error::new(name.span, format!("`{}` is already defined", name.node))
-                    .label("defined again here")
-                    .note(first, "first defined here")
-                    .help("a constant can only be defined once"),
-            );
-            return;
-        }
-        let v = self.env.eval(value, &mut self.errors);
-        self.env.constants.insert(
-            name.node.clone(),
-            Constant {
-                value: v,
-                span: name.span,
-            },
-        );
-    }
-
     // ---- value helpers: each reports its own mistakes and gives None ----
 
     fn value(&mut self, item: &Item, expected: &str) -> Option<(Value, Span)> {
@@ -313,7 +330,7 @@ impl<'p> Builder<'p> {
                         "a point or direction has exactly three components"
                     }),
                     Value::Number(_) => Some("write a vector as `<x, y, z>`"),
-                    Value::Colour(_) => None,
+                    _ => None,
                 };
                 self.wrong_kind(s, "a 3-vector", &other, help);
                 None
@@ -520,7 +537,7 @@ impl<'p> Builder<'p> {
             match n.node {
                 "srgb" => return Some(Transfer::Srgb),
                 "linear" => return Some(Transfer::Linear),
-                _ if !self.env.constants.contains_key(n.node) => {
+                _ if !item.is_bound_name() => {
                     self.err(
                         Error::new(n.span, format!("unknown transfer curve `{}`", n.node))
                             .label("expected `srgb`, `linear` or a number")

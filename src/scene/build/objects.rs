@@ -268,7 +268,9 @@ impl Builder<'_> {
     fn children(&mut self, children: &[params::Child], ctx: Ctx) -> Vec<Box<dyn Shape>> {
         let mut out = Vec::new();
         for c in children {
-            let shapes = self.object(&c.kw, c.string.as_ref(), &c.block, ctx);
+            let shapes = self.traced(c.trace.as_ref(), |b| {
+                b.object(&c.kw, c.string.as_ref(), &c.block, ctx)
+            });
             if let Some(op) = ctx.csg {
                 for s in &shapes {
                     if !s.is_solid() {
@@ -497,7 +499,13 @@ impl Builder<'_> {
         p: &mut params::Params,
         mat: MaterialId,
     ) -> Option<Box<dyn Shape>> {
-        let Item::Str { text, content, .. } = string else {
+        let Item::Str {
+            text,
+            content,
+            constants,
+            ..
+        } = string
+        else {
             return None;
         };
         let bounds = match p.take("bounded_by") {
@@ -517,7 +525,12 @@ impl Builder<'_> {
             None => None,
         };
         let env = &self.env;
-        let compiled = Equation::compile(text, &|name| env.number_constant(name));
+        let compiled = Equation::compile(text, &|name| {
+            constants
+                .as_ref()
+                .and_then(|c| c.iter().find(|(n, _)| n == name).map(|(_, v)| *v))
+                .or_else(|| env.number_constant(name))
+        });
         match compiled {
             Ok(eq) => {
                 let surface = ImplicitSurface::new(eq, bounds, mat);
@@ -652,9 +665,11 @@ impl Builder<'_> {
         match q.name.node.as_str() {
             "translate" => self.vec3(&v[0]).map(|(d, _)| Transform::translate(d)),
             "rotate" => {
+                // `x`, `y` and `z` are axes here even where a loop or a
+                // parameter has that name; any other bound name is a vector.
                 let bare = v[0]
                     .as_name()
-                    .filter(|n| !self.env.constants.contains_key(n.node));
+                    .filter(|n| !v[0].is_bound_name() || axis_index(n.node).is_some());
                 let axis = match bare {
                     Some(_) => self.axis(&v[0]).map(|a| DVec3::AXES[a]),
                     None => match self.vec3(&v[0]) {

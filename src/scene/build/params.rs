@@ -174,6 +174,21 @@ pub struct Child {
     pub kw: Spanned<String>,
     pub string: Option<Item>,
     pub block: Block,
+    /// The loop iteration or call that made it.
+    pub trace: Option<std::sync::Arc<Vec<String>>>,
+}
+
+type Trace = Option<std::sync::Arc<Vec<String>>>;
+
+/// A block's items with the evaluator's [`Item::Traced`] wrappers opened,
+/// each item with the trace of the wrapper it was in.
+fn flatten(items: &[Item], trace: &Trace, out: &mut Vec<(Item, Trace)>) {
+    for it in items {
+        match it {
+            Item::Traced { trace, items } => flatten(items, &Some(trace.clone()), out),
+            other => out.push((other.clone(), trace.clone())),
+        }
+    }
 }
 
 /// The parameters of one block, in the order written.
@@ -216,7 +231,16 @@ pub fn read(
     env: &Env,
     errors: &mut Vec<Error>,
 ) -> Params {
-    let items = &block.items;
+    let mut flat = Vec::new();
+    let opened;
+    let items: &[Item] = if block.items.iter().any(|i| matches!(i, Item::Traced { .. })) {
+        flatten(&block.items, &None, &mut flat);
+        opened = flat.iter().map(|(i, _)| i.clone()).collect::<Vec<_>>();
+        &opened
+    } else {
+        &block.items
+    };
+    let trace_at = |k: usize| flat.get(k).and_then(|(_, t)| t.clone());
     let end = Span::new(
         block.span.file,
         block.span.end.saturating_sub(1),
@@ -231,7 +255,7 @@ pub fn read(
         it.as_name().is_some_and(|n| {
             let c = canonical(n.node);
             (schema.get(c).is_some() || (schema.children && objects::is_object(c)))
-                && !env.constants.contains_key(n.node)
+                && !it.is_bound_name()
         })
     };
     let mut i = 0;
@@ -301,6 +325,7 @@ pub fn read(
                         kw: Spanned::new(canon, name.span),
                         string,
                         block: b.clone(),
+                        trace: trace_at(i - 1),
                     });
                 }
                 _ => errors.push(
