@@ -147,6 +147,10 @@ pub trait Names {
     fn call(&self, call: &Expr, errors: &mut Vec<Error>) -> Option<Option<Value>>;
     /// Reports an unknown name (with suggestions from what is in scope).
     fn unknown(&self, name: &str, span: Span, errors: &mut Vec<Error>);
+    /// The user functions in scope (for suggestions).
+    fn functions(&self) -> Vec<String> {
+        Vec::new()
+    }
     /// Counts one step of work; false when the budget is spent (reported).
     fn step(&self, _span: Span, _errors: &mut Vec<Error>) -> bool {
         true
@@ -340,7 +344,14 @@ pub fn eval(names: &dyn Names, e: &Expr, errors: &mut Vec<Error>) -> Option<Valu
                 vals.push(eval(names, a, errors));
             }
             let Some(&(_, arity)) = FUNCTIONS.iter().find(|(f, _)| *f == name.node) else {
-                let help = did_you_mean(&name.node, FUNCTIONS.iter().map(|(f, _)| *f));
+                let user = names.functions();
+                let help = did_you_mean(
+                    &name.node,
+                    FUNCTIONS
+                        .iter()
+                        .map(|(f, _)| *f)
+                        .chain(user.iter().map(String::as_str)),
+                );
                 errors.push(
                     Error::new(name.span, format!("unknown function `{}`", name.node))
                         .label("not a function")

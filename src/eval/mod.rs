@@ -313,6 +313,14 @@ impl Names for At<'_, '_> {
     fn step(&self, span: Span, errors: &mut Vec<Error>) -> bool {
         self.ex.step(span, errors)
     }
+
+    fn functions(&self) -> Vec<String> {
+        self.scope
+            .names()
+            .into_iter()
+            .filter(|n| matches!(self.scope.get(n), Some(Binding::Function(..))))
+            .collect()
+    }
 }
 
 impl<'p> Expander<'p> {
@@ -594,7 +602,11 @@ impl<'p> Expander<'p> {
     ) -> Placed {
         match &e.kind {
             ExprKind::Name(n) => match scope.get(n) {
-                Some(Binding::Value(Some(Value::Items(frag)))) => {
+                Some(Binding::Value(Some(Value::Items(frag))))
+                    if next_block.is_some()
+                        || !after_name(out)
+                        || !crate::scene::is_object(frag.head()) =>
+                {
                     if !self.count_object(e.span, errors) {
                         return Placed::Done;
                     }
@@ -1116,6 +1128,12 @@ impl<'p> Expander<'p> {
         self.depth.set(self.depth.get() - 1);
         Some(vec![Item::Traced { trace, items: made }])
     }
+}
+
+/// Whether the last item made is a name or string, so that what follows is
+/// its value (`radius b`) rather than a statement of its own.
+fn after_name(out: &[Item]) -> bool {
+    matches!(out.last(), Some(i) if i.as_name().is_some() || matches!(i, Item::Str { .. }))
 }
 
 enum Placed {

@@ -64,6 +64,10 @@ pub fn build_with(
     b.env.known = evaluated.known;
     b.errors = evaluated.errors;
     b.top_level(&evaluated.items);
+    // A mistake inside a loop body is one mistake: keep its first report.
+    let mut seen = std::collections::HashSet::new();
+    b.errors
+        .retain(|e| seen.insert((e.span, e.message.clone())));
     if b.errors.is_empty() {
         Ok((b.scene, b.warnings))
     } else {
@@ -87,6 +91,9 @@ struct Builder<'p> {
     meshes: HashMap<PathBuf, Arc<MeshData>>,
     /// Which loop iteration or call made what is being built.
     trace: Option<Arc<Vec<String>>>,
+    /// Mistakes reported so far, by place and message: one written inside
+    /// a loop is reported once (for the first iteration), not per iteration.
+    reported: std::collections::HashSet<(Span, String)>,
 }
 
 /// Every `material NAME` statement of the items, inside generated ones too.
@@ -137,12 +144,16 @@ impl<'p> Builder<'p> {
             singletons: HashMap::new(),
             meshes: HashMap::new(),
             trace: None,
+            reported: Default::default(),
         }
     }
 
     /// Reports a mistake, saying which loop iteration or call made the
     /// thing it is in.
     fn err(&mut self, mut e: Error) {
+        if !self.reported.insert((e.span, e.message.clone())) {
+            return;
+        }
         if let Some(t) = &self.trace {
             let trail = t.join("\n");
             e.help = Some(match e.help {
