@@ -375,8 +375,8 @@ impl<'p> Expander<'p> {
         {
             return e;
         }
-        let trail: Vec<&str> = ctx.iter().rev().map(String::as_str).collect();
-        let trail = trail.join("\n");
+        let inner_first: Vec<String> = ctx.iter().rev().cloned().collect();
+        let trail = trail(&inner_first);
         e.help = Some(match e.help {
             Some(h) => format!("{h}\n{trail}"),
             None => trail,
@@ -1128,6 +1128,19 @@ impl<'p> Expander<'p> {
         self.depth.set(self.depth.get() - 1);
         Some(vec![Item::Traced { trace, items: made }])
     }
+}
+
+/// The lines of a trace (innermost first) as shown under a message: deep
+/// recursion keeps its innermost three and outermost two calls.
+pub fn trail(lines: &[String]) -> String {
+    if lines.len() <= 6 {
+        return lines.join("\n");
+    }
+    let n = lines.len();
+    let mut out: Vec<String> = lines[..3].to_vec();
+    out.push(format!("… {} more …", n - 5));
+    out.extend_from_slice(&lines[n - 2..]);
+    out.join("\n")
 }
 
 /// Whether the last item made is a name or string, so that what follows is

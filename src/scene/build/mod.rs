@@ -155,7 +155,7 @@ impl<'p> Builder<'p> {
             return;
         }
         if let Some(t) = &self.trace {
-            let trail = t.join("\n");
+            let trail = crate::eval::trail(t);
             e.help = Some(match e.help {
                 Some(h) => format!("{h}\n{trail}"),
                 None => trail,
