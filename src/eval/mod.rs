@@ -10,7 +10,7 @@
 //! let spoke = cylinder { radius 0.05  height 2 }     // a value made of items
 //! fn pillar(h, r = 0.3) { cylinder { radius r  height h } }
 //! fn bell(t) = exp(-t * t)
-//! for i in 0..12 { spoke { rotate z i * 30 } }       // a placement: a group
+//! for i in 0..12 { spoke { rotate z i * 30 } }       // a placement, shared
 //! if frame % 2 == 0 { pillar(1.5, r: 0.2) { translate <1, 0, 0> } }
 //! ```
 //!
@@ -610,6 +610,38 @@ impl<'p> Expander<'p> {
                     if !self.count_object(e.span, errors) {
                         return Placed::Done;
                     }
+                    if crate::scene::is_object(frag.head()) {
+                        // Built once by the builder, shared by every
+                        // placement: the value, then the placement's block
+                        // (empty when none is written).
+                        let mut placement = Vec::new();
+                        let span = match next_block {
+                            Some(b) => {
+                                self.expand(
+                                    &b.items,
+                                    &scope.child(),
+                                    false,
+                                    &mut placement,
+                                    errors,
+                                );
+                                b.span
+                            }
+                            None => e.span,
+                        };
+                        out.push(Item::Value(Expr {
+                            kind: ExprKind::Bound(n.clone(), Some(Value::Items(frag.clone()))),
+                            span: e.span,
+                        }));
+                        out.push(Item::Block(Block {
+                            items: placement,
+                            span,
+                        }));
+                        return if next_block.is_some() {
+                            Placed::UsedBlock
+                        } else {
+                            Placed::Done
+                        };
+                    }
                     let name = Spanned::new(n.clone(), e.span);
                     return self.place(
                         &name,
@@ -661,7 +693,12 @@ impl<'p> Expander<'p> {
                     }
                     let made = self.call_items(&def, &home, e, scope, errors);
                     let Some(made) = made else {
-                        return Placed::Done;
+                        // Reported; the block after the call goes with it.
+                        return if next_block.is_some() {
+                            Placed::UsedBlock
+                        } else {
+                            Placed::Done
+                        };
                     };
                     let name = Spanned::new(name.node.clone(), e.span);
                     let frag = Fragment {
@@ -682,7 +719,19 @@ impl<'p> Expander<'p> {
             }
             _ => {}
         }
-        out.push(Item::Value(self.resolve(e, scope, errors)));
+        let value = self.resolve(e, scope, errors);
+        if matches!(&value.kind, ExprKind::Bound(n, None) if n.is_empty()) && !after_name(out) {
+            // A statement-level value that failed (reported): drop it, and
+            // the block of a failed call with it, rather than have the
+            // builder report "expected a statement" as well.
+            let call = matches!(e.kind, ExprKind::Call { .. });
+            return if call && next_block.is_some() {
+                Placed::UsedBlock
+            } else {
+                Placed::Done
+            };
+        }
+        out.push(Item::Value(value));
         Placed::Done
     }
 

@@ -377,3 +377,23 @@ fn implicit_equations_see_loop_variables_and_parameters() {
         .expect("hits");
     assert!((hit.t - 3.0).abs() < 1e-6, "{}", hit.t);
 }
+
+#[test]
+fn placements_share_one_built_object_and_render_as_copies_would() {
+    let shared = format!(
+        "{STAGE}let ball = sphere {{ radius 0.5 }}\n\
+         for i in 0..3 {{ ball {{ translate <i - 1, 0.5, 0> }} }}"
+    );
+    let copies =
+        format!("{STAGE}for i in 0..3 {{ sphere {{ radius 0.5  translate <i - 1, 0.5, 0> }} }}");
+    assert_eq!(render_src(&shared).pixels, render_src(&copies).pixels);
+    let s = build("let ball = sphere { radius 0.5 }\nball { translate <1, 0, 0> }\nball");
+    assert!(
+        s.objects
+            .iter()
+            .all(|o| format!("{o:?}").contains("Shared"))
+    );
+    // Inside CSG the placement is a solid like any other.
+    let s = build("let ball = sphere { }\ndifference { box { }  ball { translate <1, 1, 1> } }");
+    assert_eq!(s.objects.len(), 1);
+}

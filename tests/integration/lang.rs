@@ -488,7 +488,9 @@ fn the_language_reference_examples_work() {
             }
         }
         // Constants and materials are declarations the other chunks use.
-        let declares = |c: &&String| c.starts_with("let ") || c.starts_with("material ");
+        let declares = |c: &&String| {
+            c.starts_with("let ") || c.starts_with("material ") || c.starts_with("fn ")
+        };
         let prefix: Vec<&str> = chunks.iter().filter(declares).map(String::as_str).collect();
         let mut prefix = prefix.join("\n");
         // Materials an example uses but declares elsewhere (in its example

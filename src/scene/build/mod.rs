@@ -94,7 +94,14 @@ struct Builder<'p> {
     /// Mistakes reported so far, by place and message: one written inside
     /// a loop is reported once (for the first iteration), not per iteration.
     reported: std::collections::HashSet<(Span, String)>,
+    /// Object values built so far, by (value, default material, CSG
+    /// context): each is built once and shared by its placements.
+    instances: HashMap<InstanceKey, Vec<Arc<dyn crate::shapes::Shape>>>,
 }
+
+/// An object value built for placements: (the value's address, its
+/// default material, the CSG operation it is inside).
+type InstanceKey = (usize, super::MaterialId, Option<&'static str>);
 
 /// Every `material NAME` statement of the items, inside generated ones too.
 fn material_names(items: &[Item], out: &mut HashMap<String, Span>) {
@@ -145,6 +152,7 @@ impl<'p> Builder<'p> {
             meshes: HashMap::new(),
             trace: None,
             reported: Default::default(),
+            instances: HashMap::new(),
         }
     }
 
@@ -189,6 +197,18 @@ impl<'p> Builder<'p> {
             i += 1;
             if let Item::Traced { trace, items } = item {
                 self.traced(Some(trace), |b| b.top_level(items));
+                continue;
+            }
+            if let Some(value) = params::instance_of(item)
+                && let Some(Item::Block(b)) = items.get(i)
+            {
+                i += 1;
+                let name = item.as_name().map_or_else(
+                    || Spanned::new(String::new(), item.span()),
+                    |n| Spanned::new(n.node.to_string(), n.span),
+                );
+                let shapes = self.instance(&name, value, b, objects::Ctx::TOP);
+                self.scene.objects.extend(shapes);
                 continue;
             }
             let Some(kw) = item.as_name() else {

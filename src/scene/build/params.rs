@@ -176,6 +176,20 @@ pub struct Child {
     pub block: Block,
     /// The loop iteration or call that made it.
     pub trace: Option<std::sync::Arc<Vec<String>>>,
+    /// A placement of an object value: `kw` is its name, `block` the
+    /// placement's transforms and material.
+    pub instance: Option<std::sync::Arc<crate::eval::expr::Fragment>>,
+}
+
+/// The object value an item places (`wheel` in `wheel { … }`), if it is one.
+pub fn instance_of(item: &Item) -> Option<&std::sync::Arc<crate::eval::expr::Fragment>> {
+    match item {
+        Item::Value(crate::lang::ast::Expr {
+            kind: crate::lang::ast::ExprKind::Bound(_, Some(crate::eval::expr::Value::Items(f))),
+            ..
+        }) if objects::is_object(f.head()) => Some(f),
+        _ => None,
+    }
 }
 
 type Trace = Option<std::sync::Arc<Vec<String>>>;
@@ -305,6 +319,20 @@ pub fn read(
             errors.push(e);
             continue;
         };
+        if schema.children
+            && let Some(f) = instance_of(item)
+            && let Some(Item::Block(b)) = items.get(i)
+        {
+            i += 1;
+            out.children.push(Child {
+                kw: name.clone(),
+                string: None,
+                block: b.clone(),
+                trace: trace_at(i - 2),
+                instance: Some(f.clone()),
+            });
+            continue;
+        }
         let canon = canonical(&name.node).to_string();
         if schema.children && objects::is_object(&canon) {
             let string = if objects::takes_string(&canon) {
@@ -326,6 +354,7 @@ pub fn read(
                         string,
                         block: b.clone(),
                         trace: trace_at(i - 1),
+                        instance: None,
                     });
                 }
                 _ => errors.push(
