@@ -24,7 +24,6 @@ use crate::lang::diagnostics::{Error, did_you_mean};
 use crate::scene::Transfer;
 use expr::{Fragment, Names, Value};
 use std::cell::{Cell, RefCell};
-use std::collections::HashMap;
 use std::rc::Rc;
 use std::sync::Arc;
 
@@ -75,6 +74,29 @@ pub struct Evaluated {
 /// Evaluates the program's items. `transfer` decodes `#rrggbb` and
 /// named colours.
 pub fn evaluate(program: &Program, transfer: Transfer, options: &Options) -> Evaluated {
+    let mut items = Vec::new();
+    let mut known = Vec::new();
+    let errors = evaluate_in_parts(program, transfer, options, |part, names| {
+        items.extend(part);
+        known = names.to_vec();
+    });
+    Evaluated {
+        items,
+        errors,
+        known,
+    }
+}
+
+/// As [`evaluate`], handing the items over in parts, each a run of whole
+/// statements, as soon as they are made: a loop's hundred thousand objects
+/// can be built and dropped before the next statement is evaluated. `sink`
+/// also gets the names bound so far and the error list.
+pub fn evaluate_in_parts(
+    program: &Program,
+    transfer: Transfer,
+    options: &Options,
+    mut sink: impl FnMut(Vec<Item>, &[String]),
+) -> Vec<Error> {
     let ex = Expander {
         program,
         transfer,
@@ -83,7 +105,7 @@ pub fn evaluate(program: &Program, transfer: Transfer, options: &Options) -> Eva
         objects: Cell::new(0),
         depth: Cell::new(0),
         stopped: Cell::new(false),
-        context: RefCell::new(Vec::new()),
+        context: RefCell::new(None),
         known: RefCell::new(Vec::new()),
         used_defines: RefCell::new(Vec::new()),
     };
@@ -98,9 +120,60 @@ pub fn evaluate(program: &Program, transfer: Transfer, options: &Options) -> Eva
         Binding::Value(Some(Value::Number(options.frame))),
         None,
     );
-    let mut items = Vec::new();
     let mut errors = Vec::new();
-    ex.expand(&program.items, &root, true, &mut items, &mut errors);
+    // Statements never straddle a `let`, `fn`, `for` or `if`: those are
+    // where a part may end.
+    let boundary = |i: &Item| {
+        matches!(
+            i,
+            Item::Let { .. }
+                | Item::LetItems { .. }
+                | Item::Fn(_)
+                | Item::For { .. }
+                | Item::If { .. }
+        )
+    };
+    let items = &program.items;
+    let mut start = 0;
+    while start < items.len() {
+        let mut end = start + 1;
+        if !boundary(&items[start]) {
+            while end < items.len() && !boundary(&items[end]) {
+                end += 1;
+            }
+        }
+        if let Item::For {
+            var,
+            source,
+            body,
+            span,
+        } = &items[start]
+        {
+            // A top-level loop hands its objects over a few hundred
+            // iterations at a time.
+            let mut pending = Vec::new();
+            let mut emit = |it: Item| {
+                pending.push(it);
+                if pending.len() >= 256 {
+                    sink(std::mem::take(&mut pending), &ex.known.borrow());
+                }
+            };
+            if ex.step(items[start].span(), &mut errors) {
+                ex.for_loop(var, source, body, *span, &root, &mut emit, &mut errors);
+            }
+            if !pending.is_empty() {
+                sink(pending, &ex.known.borrow());
+            }
+            start = end;
+            continue;
+        }
+        let mut out = Vec::new();
+        ex.expand(&items[start..end], &root, true, &mut out, &mut errors);
+        if !out.is_empty() {
+            sink(out, &ex.known.borrow());
+        }
+        start = end;
+    }
     let used = ex.used_defines.borrow();
     for (name, _) in &options.defines {
         if !used.contains(name) {
@@ -124,11 +197,7 @@ pub fn evaluate(program: &Program, transfer: Transfer, options: &Options) -> Eva
             );
         }
     }
-    Evaluated {
-        items,
-        errors,
-        known: ex.known.take(),
-    }
+    errors
 }
 
 /// Parses and evaluates the value of `-D NAME=VALUE` (a number, vector,
@@ -160,46 +229,56 @@ enum Binding {
     Function(Arc<FnDef>, Rc<Scope>),
 }
 
-/// One block's names; lookups go outwards.
+/// One block's names; lookups go outwards. A block binds few names, so a
+/// list searched from the end is cheaper than a hash map (a loop makes one
+/// scope per iteration).
 struct Scope {
-    vars: RefCell<HashMap<String, (Binding, Option<Span>)>>,
+    vars: RefCell<Vec<(String, Binding, Option<Span>)>>,
     parent: Option<Rc<Scope>>,
 }
 
 impl Scope {
     fn root() -> Rc<Scope> {
         Rc::new(Scope {
-            vars: RefCell::new(HashMap::new()),
+            vars: RefCell::new(Vec::new()),
             parent: None,
         })
     }
 
     fn child(self: &Rc<Scope>) -> Rc<Scope> {
         Rc::new(Scope {
-            vars: RefCell::new(HashMap::new()),
+            vars: RefCell::new(Vec::new()),
             parent: Some(self.clone()),
         })
     }
 
     fn bind(&self, name: &str, b: Binding, span: Option<Span>) {
-        self.vars.borrow_mut().insert(name.to_string(), (b, span));
+        self.vars.borrow_mut().push((name.to_string(), b, span));
     }
 
     fn get(&self, name: &str) -> Option<Binding> {
-        if let Some((b, _)) = self.vars.borrow().get(name) {
-            return Some(b.clone());
+        let mut s = Some(self);
+        while let Some(scope) = s {
+            if let Some((_, b, _)) = scope.vars.borrow().iter().rev().find(|(n, ..)| n == name) {
+                return Some(b.clone());
+            }
+            s = scope.parent.as_deref();
         }
-        self.parent.as_ref()?.get(name)
+        None
     }
 
     /// Where `name` was bound in this very scope, if it was.
     fn here(&self, name: &str) -> Option<Option<Span>> {
-        self.vars.borrow().get(name).map(|(_, s)| *s)
+        self.vars
+            .borrow()
+            .iter()
+            .find(|(n, ..)| n == name)
+            .map(|(.., s)| *s)
     }
 
     /// Every name visible here (for suggestions).
     fn names(&self) -> Vec<String> {
-        let mut v: Vec<String> = self.vars.borrow().keys().cloned().collect();
+        let mut v: Vec<String> = self.vars.borrow().iter().map(|(n, ..)| n.clone()).collect();
         if let Some(p) = &self.parent {
             v.extend(p.names());
         }
@@ -212,7 +291,7 @@ impl Scope {
         let mut out: Vec<(String, f64)> = Vec::new();
         let mut s = Some(self);
         while let Some(scope) = s {
-            for (k, (b, _)) in scope.vars.borrow().iter() {
+            for (k, b, _) in scope.vars.borrow().iter() {
                 if let Binding::Value(Some(Value::Number(v))) = b
                     && !matches!(k.as_str(), "x" | "y" | "z")
                     && !out.iter().any(|(n, _)| n == k)
@@ -237,8 +316,8 @@ struct Expander<'p> {
     depth: Cell<usize>,
     /// Set once a limit is hit: everything after is skipped.
     stopped: Cell<bool>,
-    /// "in iteration i = 7 of the loop at scene.rt:9:1", outermost first.
-    context: RefCell<Vec<String>>,
+    /// The loop iteration or call being evaluated (innermost), if any.
+    context: RefCell<Option<Arc<Trace>>>,
     known: RefCell<Vec<String>>,
     used_defines: RefCell<Vec<String>>,
 }
@@ -328,10 +407,6 @@ impl<'p> Expander<'p> {
         At { ex: self, scope }
     }
 
-    fn location(&self, span: Span) -> String {
-        self.program.sources.location(span).to_string()
-    }
-
     fn step(&self, span: Span, errors: &mut Vec<Error>) -> bool {
         if self.stopped.get() {
             return false;
@@ -365,23 +440,39 @@ impl<'p> Expander<'p> {
 
     /// Adds the loop iterations and calls the error is inside.
     fn traced(&self, mut e: Error) -> Error {
-        let ctx = self.context.borrow();
-        if ctx.is_empty() {
+        let Some(t) = self.context.borrow().clone() else {
             return e;
-        }
+        };
+        let lines = t.lines(&self.program.sources);
         if e.help
             .as_deref()
-            .is_some_and(|h| ctx.iter().any(|c| h.contains(c.as_str())))
+            .is_some_and(|h| h.contains(lines[0].as_str()))
         {
             return e;
         }
-        let inner_first: Vec<String> = ctx.iter().rev().cloned().collect();
-        let trail = trail(&inner_first);
+        let trail = trail(&lines);
         e.help = Some(match e.help {
             Some(h) => format!("{h}\n{trail}"),
             None => trail,
         });
         e
+    }
+
+    /// Enters a loop iteration or call (for messages); returns the trace
+    /// that items made inside carry.
+    fn push(&self, frame: Frame) -> Arc<Trace> {
+        let mut ctx = self.context.borrow_mut();
+        let t = Arc::new(Trace {
+            frame,
+            parent: ctx.take(),
+        });
+        *ctx = Some(t.clone());
+        t
+    }
+
+    fn pop(&self) {
+        let mut ctx = self.context.borrow_mut();
+        *ctx = ctx.as_ref().and_then(|t| t.parent.clone());
     }
 
     fn count_object(&self, span: Span, errors: &mut Vec<Error>) -> bool {
@@ -508,7 +599,15 @@ impl<'p> Expander<'p> {
                     source,
                     body,
                     span,
-                } => self.for_loop(var, source, body, *span, scope, out, errors),
+                } => self.for_loop(
+                    var,
+                    source,
+                    body,
+                    *span,
+                    scope,
+                    &mut |it| out.push(it),
+                    errors,
+                ),
                 Item::If {
                     cond,
                     then,
@@ -845,7 +944,7 @@ impl<'p> Expander<'p> {
         body: &Block,
         span: Span,
         scope: &Rc<Scope>,
-        out: &mut Vec<Item>,
+        out: &mut dyn FnMut(Item),
         errors: &mut Vec<Error>,
     ) {
         if expr::is_reserved(&var.node) && !matches!(var.node.as_str(), "x" | "y" | "z") {
@@ -948,26 +1047,23 @@ impl<'p> Expander<'p> {
                 None => return,
             },
         };
-        let header = self.location(span);
         for v in values {
             if self.stopped.get() {
                 return;
             }
             let inner = scope.child();
-            let line = format!(
-                "in iteration {} = {} of the loop at {header}",
-                var.node,
-                v.show()
-            );
+            let trace = self.push(Frame::Loop {
+                var: var.node.clone(),
+                value: v.clone(),
+                at: span,
+            });
             inner.bind(&var.node, Binding::Value(Some(v)), Some(var.span));
-            self.context.borrow_mut().push(line);
             let before = errors.len();
             let mut made = Vec::new();
             self.expand(&body.items, &inner, false, &mut made, errors);
-            let trace = Arc::new(self.context.borrow().iter().rev().cloned().collect());
-            self.context.borrow_mut().pop();
+            self.pop();
             if !made.is_empty() {
-                out.push(Item::Traced { trace, items: made });
+                out(Item::Traced { trace, items: made });
             }
             if errors.len() > before {
                 // One report for a mistake, not one per iteration.
@@ -986,7 +1082,7 @@ impl<'p> Expander<'p> {
         call: &Expr,
         caller: &Rc<Scope>,
         errors: &mut Vec<Error>,
-    ) -> Option<(Rc<Scope>, String)> {
+    ) -> Option<(Rc<Scope>, Frame)> {
         let ExprKind::Call { name, args, named } = &call.kind else {
             return None;
         };
@@ -1083,19 +1179,17 @@ impl<'p> Expander<'p> {
                     return None;
                 }
             };
-            shown.push(format!("{} = {}", p.name.node, v.show()));
+            shown.push((p.name.node.clone(), v.clone()));
             scope.bind(&p.name.node, Binding::Value(Some(v)), Some(p.name.span));
         }
-        let mut line = format!(
-            "in `{}` called from {}",
-            name.node,
-            self.location(call.span)
-        );
-        if !shown.is_empty() {
-            line.push_str(" with ");
-            line.push_str(&shown.join(", "));
-        }
-        Some((scope, line))
+        Some((
+            scope,
+            Frame::Call {
+                name: name.node.clone(),
+                at: call.span,
+                args: shown,
+            },
+        ))
     }
 
     fn enter(&self, call: &Expr, errors: &mut Vec<Error>) -> bool {
@@ -1146,9 +1240,9 @@ impl<'p> Expander<'p> {
         if !self.enter(call, errors) {
             return None;
         }
-        self.context.borrow_mut().push(line);
+        self.push(line);
         let v = self.value(body, &scope, errors);
-        self.context.borrow_mut().pop();
+        self.pop();
         self.depth.set(self.depth.get() - 1);
         v
     }
@@ -1169,13 +1263,66 @@ impl<'p> Expander<'p> {
         if !self.enter(call, errors) {
             return None;
         }
-        self.context.borrow_mut().push(line);
+        let trace = self.push(line);
         let mut made = Vec::new();
         self.expand(&body.items, &scope, false, &mut made, errors);
-        let trace = Arc::new(self.context.borrow().iter().rev().cloned().collect());
-        self.context.borrow_mut().pop();
+        self.pop();
         self.depth.set(self.depth.get() - 1);
         Some(vec![Item::Traced { trace, items: made }])
+    }
+}
+
+/// Where generated items came from: loop iterations and calls, innermost
+/// first, put into words only when a message needs them.
+#[derive(Debug, PartialEq)]
+pub struct Trace {
+    frame: Frame,
+    parent: Option<Arc<Trace>>,
+}
+
+#[derive(Debug, PartialEq)]
+enum Frame {
+    Loop {
+        var: String,
+        value: Value,
+        at: Span,
+    },
+    Call {
+        name: String,
+        at: Span,
+        args: Vec<(String, Value)>,
+    },
+}
+
+impl Trace {
+    /// "in iteration i = 7 of the loop at scene.rt:9:1", "in `pillar`
+    /// called from scene.rt:14:5 with h = 1.7", innermost first.
+    pub fn lines(&self, sources: &crate::lang::source::Sources) -> Vec<String> {
+        let mut out = Vec::new();
+        let mut t = Some(self);
+        while let Some(trace) = t {
+            out.push(match &trace.frame {
+                Frame::Loop { var, value, at } => format!(
+                    "in iteration {var} = {} of the loop at {}",
+                    value.show(),
+                    sources.location(*at)
+                ),
+                Frame::Call { name, at, args } => {
+                    let mut line = format!("in `{name}` called from {}", sources.location(*at));
+                    if !args.is_empty() {
+                        let shown: Vec<String> = args
+                            .iter()
+                            .map(|(n, v)| format!("{n} = {}", v.show()))
+                            .collect();
+                        line.push_str(" with ");
+                        line.push_str(&shown.join(", "));
+                    }
+                    line
+                }
+            });
+            t = trace.parent.as_deref();
+        }
+        out
     }
 }
 

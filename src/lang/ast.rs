@@ -115,7 +115,7 @@ pub enum Item {
     /// evaluator, never by the parser): `trace` says where they came
     /// from, innermost first, for messages about them.
     Traced {
-        trace: std::sync::Arc<Vec<String>>,
+        trace: std::sync::Arc<crate::eval::Trace>,
         items: Vec<Item>,
     },
 }

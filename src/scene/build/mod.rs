@@ -59,11 +59,16 @@ pub fn build_with(
     options: &crate::eval::Options,
 ) -> Result<(Scene, Vec<String>), Problems> {
     let transfer = find_transfer(&program.items);
-    let evaluated = crate::eval::evaluate(program, transfer, options);
-    let mut b = Builder::new(program, &evaluated.items, transfer);
-    b.env.known = evaluated.known;
-    b.errors = evaluated.errors;
-    b.top_level(&evaluated.items);
+    let mut b = Builder::new(program, transfer);
+    // Each part is built as soon as it is evaluated, so the evaluated
+    // items of a long loop never all exist at once.
+    let eval_errors = crate::eval::evaluate_in_parts(program, transfer, options, |items, known| {
+        if b.env.known.len() != known.len() {
+            b.env.known = known.to_vec();
+        }
+        b.top_level(&items);
+    });
+    b.errors.extend(eval_errors);
     // A mistake inside a loop body is one mistake: keep its first report.
     let mut seen = std::collections::HashSet::new();
     b.errors
@@ -90,7 +95,7 @@ struct Builder<'p> {
     /// Meshes by canonical path: one file placed many times is read once.
     meshes: HashMap<PathBuf, Arc<MeshData>>,
     /// Which loop iteration or call made what is being built.
-    trace: Option<Arc<Vec<String>>>,
+    trace: Option<Arc<crate::eval::Trace>>,
     /// Mistakes reported so far, by place and message: one written inside
     /// a loop is reported once (for the first iteration), not per iteration.
     reported: std::collections::HashSet<(Span, String)>,
@@ -119,7 +124,7 @@ fn material_names(items: &[Item], out: &mut HashMap<String, Span>) {
 }
 
 impl<'p> Builder<'p> {
-    fn new(program: &'p Program, items: &[Item], transfer: Transfer) -> Self {
+    fn new(program: &'p Program, transfer: Transfer) -> Self {
         let mut env = Env::new(transfer);
         let mut all_materials = HashMap::new();
         for item in &program.items {
@@ -127,7 +132,7 @@ impl<'p> Builder<'p> {
                 env.all_lets.entry(name.node.clone()).or_insert(name.span);
             }
         }
-        material_names(items, &mut all_materials);
+        material_names(&program.items, &mut all_materials);
         env.material_names = all_materials.keys().cloned().collect();
         let settings = RenderSettings {
             transfer,
@@ -163,7 +168,7 @@ impl<'p> Builder<'p> {
             return;
         }
         if let Some(t) = &self.trace {
-            let trail = crate::eval::trail(t);
+            let trail = crate::eval::trail(&t.lines(&self.program.sources));
             e.help = Some(match e.help {
                 Some(h) => format!("{h}\n{trail}"),
                 None => trail,
@@ -173,7 +178,11 @@ impl<'p> Builder<'p> {
     }
 
     /// Runs `f` with `trace` as the current trace (when there is one).
-    fn traced<T>(&mut self, trace: Option<&Arc<Vec<String>>>, f: impl FnOnce(&mut Self) -> T) -> T {
+    fn traced<T>(
+        &mut self,
+        trace: Option<&Arc<crate::eval::Trace>>,
+        f: impl FnOnce(&mut Self) -> T,
+    ) -> T {
         let Some(t) = trace else {
             return f(self);
         };

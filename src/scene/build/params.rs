@@ -175,7 +175,7 @@ pub struct Child {
     pub string: Option<Item>,
     pub block: Block,
     /// The loop iteration or call that made it.
-    pub trace: Option<std::sync::Arc<Vec<String>>>,
+    pub trace: Option<std::sync::Arc<crate::eval::Trace>>,
     /// A placement of an object value: `kw` is its name, `block` the
     /// placement's transforms and material.
     pub instance: Option<std::sync::Arc<crate::eval::expr::Fragment>>,
@@ -192,7 +192,7 @@ pub fn instance_of(item: &Item) -> Option<&std::sync::Arc<crate::eval::expr::Fra
     }
 }
 
-type Trace = Option<std::sync::Arc<Vec<String>>>;
+type Trace = Option<std::sync::Arc<crate::eval::Trace>>;
 
 /// A block's items with the evaluator's [`Item::Traced`] wrappers opened,
 /// each item with the trace of the wrapper it was in.
