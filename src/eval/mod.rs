@@ -887,8 +887,13 @@ impl<'p> Expander<'p> {
     /// left to the builder (which knows its keywords and materials).
     fn resolve(&self, e: &Expr, scope: &Rc<Scope>, errors: &mut Vec<Error>) -> Expr {
         let at = self.at(scope);
-        let plain_literal = matches!(e.kind, ExprKind::Number(_) | ExprKind::Hex(_));
-        if !plain_literal && expr::is_closed(&at, e) && !matches!(e.kind, ExprKind::Name(_)) {
+        // Literals and bare names need no working out (a bare name may be a
+        // keyword of the builder's); test that first, it is the common case.
+        let simple = matches!(
+            e.kind,
+            ExprKind::Number(_) | ExprKind::Hex(_) | ExprKind::Name(_)
+        );
+        if !simple && expr::is_closed(&at, e) {
             let v = self.value(e, scope, errors);
             return Expr {
                 kind: match v {
