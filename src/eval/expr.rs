@@ -991,6 +991,60 @@ mod tests {
     }
 
     #[test]
+    fn conditions_remainders_lists_and_indices() {
+        assert_eq!(eval("7 % 3"), Ok(Value::Number(1.0)));
+        assert_eq!(eval("-1 % 12"), Ok(Value::Number(11.0)));
+        assert_eq!(eval("1 + 2 == 3 and not (2 < 1)"), Ok(Value::Bool(true)));
+        assert_eq!(
+            eval("1 >= 2 or <1, 2, 3> != <1, 2, 3>"),
+            Ok(Value::Bool(false))
+        );
+        assert_eq!(eval("[1, 2] + [3]"), eval("[1, 2, 3]"));
+        assert_eq!(eval("[<1, 2, 3>][0][2]"), Ok(Value::Number(3.0)));
+        assert_eq!(eval("len([1, 2, 3])"), Ok(Value::Number(3.0)));
+        assert_eq!(
+            eval("lerp(<0, 0, 0>, <2, 4, 6>, 0.5)"),
+            Ok(Value::Vector(vec![1.0, 2.0, 3.0]))
+        );
+        // `and` stops early: the index out of range is never evaluated.
+        assert_eq!(eval("1 > 2 and [1][5] == 0"), Ok(Value::Bool(false)));
+        let e = eval("[1, 2][2]").unwrap_err();
+        assert_eq!(e[0].message, "index 2 is out of range");
+        assert_eq!(e[0].label, "the list has 2 elements");
+        let e = eval("5 % 0").unwrap_err();
+        assert_eq!(e[0].message, "division by zero");
+        let e = eval("1 < <1, 2, 3>").unwrap_err();
+        assert!(
+            e[0].message.starts_with("cannot compare"),
+            "{}",
+            e[0].message
+        );
+        let e = eval("not 1").unwrap_err();
+        assert!(e[0].message.contains("needs a condition"));
+    }
+
+    #[test]
+    fn vector_built_ins() {
+        assert_eq!(eval("dot(<1, 2, 3>, <4, 5, 6>)"), Ok(Value::Number(32.0)));
+        assert_eq!(
+            eval("cross(<0, 1, 0>, <0, 0, 1>)"),
+            Ok(Value::Vector(vec![1.0, 0.0, 0.0]))
+        );
+        assert_eq!(eval("length(<2, 3, 6>)"), Ok(Value::Number(7.0)));
+        assert!(eval("normalize(<0, 0, 0>)").is_err());
+        assert!(
+            eval("dot(1, <1, 2, 3>)").unwrap_err()[0]
+                .message
+                .contains("needs a 3-vector")
+        );
+        assert_eq!(eval("clamp(5, 0, 1)"), Ok(Value::Number(1.0)));
+        assert_eq!(
+            eval("atan2(1, 0) * 2"),
+            Ok(Value::Number(std::f64::consts::PI))
+        );
+    }
+
+    #[test]
     fn hex_and_named_colours_decode_with_the_transfer() {
         // gamma 2: display 128/255 decodes by squaring.
         let g = (128.0f64 / 255.0).powi(2);

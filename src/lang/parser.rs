@@ -881,9 +881,22 @@ pub fn check_brackets(text: &str, file: FileId) -> Vec<Error> {
         i += 1;
     }
     for o in stack {
+        if o.ch == '<' && looks_like_comparison(b, o.at) {
+            continue;
+        }
         errors.push(unclosed_at_eof(text, file, &o));
     }
     errors
+}
+
+/// Whether the `<` at `at` reads as "less than" rather than a vector: a
+/// value before it and a space after (`x < 1`, not `= <1, 2, 3`).
+fn looks_like_comparison(b: &[u8], at: usize) -> bool {
+    let before = b[..at].iter().rev().find(|c| !c.is_ascii_whitespace());
+    let value_before =
+        before.is_some_and(|c| c.is_ascii_alphanumeric() || matches!(c, b')' | b']' | b'_' | b'.'));
+    let space_after = b.get(at + 1).is_some_and(|c| c.is_ascii_whitespace());
+    value_before && space_after
 }
 
 fn unclosed_at_eof(text: &str, file: FileId, o: &Open) -> Error {
@@ -1120,6 +1133,21 @@ mod tests {
                 .message
                 .contains("more than 256 operators")
         );
+    }
+
+    #[test]
+    fn comparisons_are_not_open_vectors() {
+        for src in [
+            "let a = 1 < 2",
+            "let a = 1 < <1, 2, 3>",
+            "let a = (1 < 2) and 3 > 2",
+            "if 1 < 2 { }",
+            "let b = 1 <= 2",
+        ] {
+            assert!(parse(src, F).is_ok(), "{src}");
+        }
+        let e = parse("let B = <1, 2, 3", F).unwrap_err();
+        assert_eq!(e[0].message, "`<` is never closed");
     }
 
     #[test]
