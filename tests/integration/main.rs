@@ -3,6 +3,7 @@
 mod cli;
 mod csg;
 mod diagnostics;
+mod eval;
 mod examples;
 mod geometry;
 mod golden;
