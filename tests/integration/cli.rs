@@ -147,6 +147,17 @@ fn huge_images_are_refused_before_allocating() {
         "{err}"
     );
     assert!(!out.exists());
+    // An .exr's copy is f32: 24 bytes a pixel, 80.5 GiB.
+    let exr = dir.path().join("out.exr");
+    let o = raytrace(&[
+        scene.as_os_str(),
+        "-o".as_ref(),
+        exr.as_os_str(),
+        "--width=60000".as_ref(),
+        "--height=60000".as_ref(),
+    ]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("80.5 GiB"), "{err}");
 }
 
 #[test]
