@@ -1,12 +1,33 @@
-//! The command line.
+//! The command line: its flags, their allowed ranges, and the exit codes
+//! the program ends with (stated in `--help` and the README, tested in
+//! tests/integration/cli.rs).
 
 use clap::Parser;
-use std::num::NonZeroU32;
 use std::path::PathBuf;
+
+/// The widest and tallest image, from the command line or a scene's
+/// `render` block: JPEG's 16-bit limit, applied to every format so that a
+/// size works whatever the extension.
+pub const MAX_SIDE: u32 = 65_535;
+
+/// The most worker threads: far more than any machine's cores, and few
+/// enough that starting them cannot run into the system's process limit.
+pub const MAX_THREADS: u32 = 256;
+
+const EXIT_CODES: &str = "\
+Exit status:
+  0    the image was written (or, with --check, the scene is valid)
+  1    the scene has an error (syntax, meaning, or a file it names)
+  2    the command line is wrong (a flag, a value out of range, an output
+       name that cannot be used)
+  3    the system refused (the scene cannot be read, the image cannot be
+       written, threads cannot be started)
+  128+N  stopped by signal N (130 for Ctrl-C, 143 for SIGTERM); nothing
+       is left half-written";
 
 /// Render a .rt scene to an image.
 #[derive(Parser, Debug, Clone)]
-#[command(name = "raytrace", version, about)]
+#[command(name = "raytrace", version, about, after_help = EXIT_CODES)]
 pub struct Args {
     /// The scene file to render.
     pub scene: PathBuf,
@@ -16,24 +37,27 @@ pub struct Args {
     #[arg(short, long, required_unless_present = "check")]
     pub output: Option<PathBuf>,
 
-    /// Image width in pixels (overrides the scene's `render` block).
-    #[arg(long)]
-    pub width: Option<NonZeroU32>,
+    /// Image width in pixels, 1 to 65535 (overrides the scene's `render`
+    /// block).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=MAX_SIDE as i64))]
+    pub width: Option<u32>,
 
-    /// Image height in pixels (overrides the scene's `render` block).
-    #[arg(long)]
-    pub height: Option<NonZeroU32>,
+    /// Image height in pixels, 1 to 65535 (overrides the scene's `render`
+    /// block).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=MAX_SIDE as i64))]
+    pub height: Option<u32>,
 
-    /// Antialiasing: N × N rays per pixel (overrides the scene's
+    /// Antialiasing: N × N rays per pixel, 1 to 16 (overrides the scene's
     /// `render { samples }`).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16))]
     pub samples: Option<u32>,
 
-    /// Worker threads (default: one per core).
-    #[arg(long)]
-    pub threads: Option<NonZeroU32>,
+    /// Worker threads, 1 to 256 (default: one per core).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=MAX_THREADS as i64))]
+    pub threads: Option<u32>,
 
-    /// Parse and build the scene, report any errors, render nothing.
+    /// Parse and build the scene, report any errors, render nothing; on
+    /// success print a one-line summary.
     #[arg(long)]
     pub check: bool,
 
@@ -41,7 +65,7 @@ pub struct Args {
     #[arg(long)]
     pub stats: bool,
 
-    /// No progress bar.
+    /// No progress bar, warnings or summary.
     #[arg(short, long)]
     pub quiet: bool,
 
@@ -107,5 +131,60 @@ impl Args {
                 steps: self.max_steps,
             },
         })
+    }
+}
+
+/// What kind of failure ended the program: its exit status.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Exit {
+    /// The scene has an error.
+    Scene = 1,
+    /// The command line is wrong (clap uses 2 for its own errors too).
+    Usage = 2,
+    /// The system refused: a read, a write, threads.
+    System = 3,
+}
+
+/// A report and the exit status it ends the program with.
+pub struct Failure {
+    pub exit: Exit,
+    pub report: miette::Report,
+}
+
+impl Failure {
+    pub fn scene(e: impl Into<miette::Report>) -> Failure {
+        Failure {
+            exit: Exit::Scene,
+            report: e.into(),
+        }
+    }
+
+    pub fn usage(e: impl Into<miette::Report>) -> Failure {
+        Failure {
+            exit: Exit::Usage,
+            report: e.into(),
+        }
+    }
+
+    pub fn system(e: impl Into<miette::Report>) -> Failure {
+        Failure {
+            exit: Exit::System,
+            report: e.into(),
+        }
+    }
+
+    /// An output problem: the command line's, or the system's.
+    pub fn output(e: crate::output::OutputError) -> Failure {
+        if e.is_usage() {
+            Failure::usage(e)
+        } else {
+            Failure::system(e)
+        }
+    }
+}
+
+impl std::fmt::Debug for Failure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{:?}", self.report)
     }
 }

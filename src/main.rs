@@ -3,21 +3,18 @@ use std::process::ExitCode;
 
 fn main() -> ExitCode {
     let args = raytrace::cli::Args::parse();
-    // Ctrl-C or SIGTERM while the image is being written would leave its
-    // temporary file behind; the handler removes it and exits as a shell
-    // expects of an interrupted program (128 + SIGINT).
-    let _ = ctrlc::set_handler(|| {
-        raytrace::output::remove_pending();
-        std::process::exit(130);
-    });
+    // A signal while the image is being written would leave its temporary
+    // file behind; the handler removes it and exits as a shell expects of
+    // a program stopped by a signal (128 + its number).
+    raytrace::signals::install(raytrace::output::remove_pending);
     match raytrace::run(&args) {
         Ok(()) => ExitCode::SUCCESS,
-        Err(report) => {
+        Err(failure) => {
             // Rendered whole, then written once: stderr is unbuffered, and a
             // snippet of a long line would otherwise cost a write per character.
-            let text = format!("{report:?}");
+            let text = format!("{:?}", failure.report);
             eprintln!("{text}");
-            ExitCode::FAILURE
+            ExitCode::from(failure.exit as u8)
         }
     }
 }

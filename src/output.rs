@@ -3,6 +3,12 @@
 //! file beside the target and is renamed over it only when complete, so an
 //! error, a crash or Ctrl-C never leaves a partial file or destroys an
 //! existing one.
+//!
+//! Everything that can be known about the output is checked before the
+//! first ray ([`Target::prepare`]): the format, the size the format can
+//! hold, the name's length, that it names none of the scene's own files,
+//! and, by creating the temporary file there, that the folder exists and
+//! is writable. A render is never thrown away for want of a place to put it.
 
 use crate::render::Film;
 use crate::scene::Transfer;
@@ -56,7 +62,41 @@ pub enum OutputError {
     #[error("cannot write `{}`: {reason}", path.display())]
     #[diagnostic(code(output::write))]
     Write { path: PathBuf, reason: String },
+    #[error("the output `{}` is the scene's own file `{}`", path.display(), input.display())]
+    #[diagnostic(
+        code(output::is_input),
+        help("writing the image there would destroy it; choose another output name")
+    )]
+    IsInput { path: PathBuf, input: PathBuf },
+    #[error("the output file name is {len} bytes long; the limit is {NAME_MAX} bytes")]
+    #[diagnostic(code(output::name_too_long))]
+    NameTooLong { len: usize },
+    #[error("a {format} image can be at most {max}x{max} pixels; this one is {width}x{height}")]
+    #[diagnostic(
+        code(output::too_large_for_format),
+        help("choose a smaller --width/--height, or write .png, .exr or .hdr")
+    )]
+    TooLargeForFormat {
+        format: &'static str,
+        max: u32,
+        width: u32,
+        height: u32,
+    },
 }
+
+impl OutputError {
+    /// Whether the mistake is in the command line (rather than the system
+    /// refusing a well-formed request).
+    pub fn is_usage(&self) -> bool {
+        !matches!(self, OutputError::Write { .. })
+    }
+}
+
+/// The longest file name (one path component) Linux and macOS accept.
+pub const NAME_MAX: usize = 255;
+
+/// The widest and tallest JPEG: its header stores each side in 16 bits.
+pub const JPEG_MAX_SIDE: u32 = 65_535;
 
 impl Format {
     /// The format named by the path's extension; checked before rendering
@@ -87,6 +127,172 @@ impl Format {
             Format::Hdr => image::ImageFormat::Hdr,
             Format::Ppm => image::ImageFormat::Pnm,
         }
+    }
+
+    /// The largest side this format can store, where it is smaller than
+    /// the command line's own limit.
+    fn max_side(self) -> Option<(&'static str, u32)> {
+        match self {
+            Format::Jpeg => Some(("JPEG", JPEG_MAX_SIDE)),
+            _ => None,
+        }
+    }
+}
+
+/// The output file, checked before rendering (its folder has been shown
+/// writable by creating the temporary file there once).
+#[derive(Debug)]
+pub struct Target {
+    path: PathBuf,
+    format: Format,
+    tmp: PathBuf,
+}
+
+impl Target {
+    /// Checks everything about writing a `width`×`height` image to `path`
+    /// that can be checked without the picture; `inputs` are the files the
+    /// scene reads, which the output must not overwrite, by any spelling.
+    pub fn prepare(
+        path: &Path,
+        width: u32,
+        height: u32,
+        inputs: &[PathBuf],
+    ) -> Result<Target, OutputError> {
+        let format = Format::from_path(path)?;
+        let name = path.file_name().map_or(0, |n| n.len());
+        if name > NAME_MAX {
+            return Err(OutputError::NameTooLong { len: name });
+        }
+        if let Some((format, max)) = format.max_side()
+            && (width > max || height > max)
+        {
+            return Err(OutputError::TooLargeForFormat {
+                format,
+                max,
+                width,
+                height,
+            });
+        }
+        if let Some(input) = inputs.iter().find(|i| same_file(path, i)) {
+            return Err(OutputError::IsInput {
+                path: path.to_owned(),
+                input: input.clone(),
+            });
+        }
+        Target::claim(path, format)
+    }
+
+    /// Tries the temporary file beside `path`: created, so the folder is
+    /// known to exist and be writable, then removed again at once, so that
+    /// a render killed by SIGKILL (which no handler sees) leaves nothing.
+    /// Its name is short and fixed in length, so any target name the
+    /// system accepts has a temporary it accepts too.
+    fn claim(path: &Path, format: Format) -> Result<Target, OutputError> {
+        let dir = match path.parent() {
+            Some(d) if !d.as_os_str().is_empty() => d.to_owned(),
+            _ => PathBuf::from("."),
+        };
+        let tmp = dir.join(format!(".raytrace-{}.tmp", std::process::id()));
+        set_pending(Some(tmp.clone()));
+        let created = std::fs::File::create(&tmp);
+        let _ = std::fs::remove_file(&tmp);
+        set_pending(None);
+        if let Err(e) = created {
+            let reason = match e.kind() {
+                std::io::ErrorKind::NotFound => {
+                    format!("the folder `{}` does not exist", dir.display())
+                }
+                std::io::ErrorKind::PermissionDenied => {
+                    format!("no permission to create files in `{}`", dir.display())
+                }
+                _ => format!("cannot create a file in `{}`: {e}", dir.display()),
+            };
+            return Err(OutputError::Write {
+                path: path.to_owned(),
+                reason,
+            });
+        }
+        Ok(Target {
+            path: path.to_owned(),
+            format,
+            tmp,
+        })
+    }
+
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// Encodes the film into the temporary file and renames it over the
+    /// target.
+    pub fn write(self, film: &Film, transfer: Transfer) -> Result<(), OutputError> {
+        self.write_with(film, transfer, |t| std::fs::File::create(t))
+    }
+
+    fn write_with<S: Sink>(
+        self,
+        film: &Film,
+        transfer: Transfer,
+        create: impl FnOnce(&Path) -> std::io::Result<S>,
+    ) -> Result<(), OutputError> {
+        write_through(film, &self.path, &self.tmp, self.format, transfer, create)
+    }
+}
+
+impl Drop for Target {
+    fn drop(&mut self) {
+        // After a successful rename the temporary is gone and this fails
+        // quietly; after a failed render it removes the empty claim.
+        let _ = std::fs::remove_file(&self.tmp);
+        set_pending(None);
+    }
+}
+
+/// Whether `out` names the same file as `input`: the same inode where the
+/// output exists (hard links, symbolic links, `./`, `..`), else never (an
+/// input exists).
+fn same_file(out: &Path, input: &Path) -> bool {
+    let (Ok(a), Ok(b)) = (std::fs::metadata(out), std::fs::metadata(input)) else {
+        return false;
+    };
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        a.dev() == b.dev() && a.ino() == b.ino()
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = (a, b);
+        matches!((out.canonicalize(), input.canonicalize()), (Ok(x), Ok(y)) if x == y)
+    }
+}
+
+/// The deepest cause's words: an encoder wraps the disk's "No space left
+/// on device" in its own error, whose text can mislead ("decoding").
+fn reason(e: &(dyn std::error::Error + 'static)) -> String {
+    let mut cur: &(dyn std::error::Error + 'static) = e;
+    let mut io = None;
+    loop {
+        if let Some(x) = cur.downcast_ref::<std::io::Error>() {
+            io = Some(x);
+        }
+        match cur.source() {
+            Some(next) => cur = next,
+            None => break,
+        }
+    }
+    // Some encoders (OpenEXR's) keep only the words of the system's error,
+    // inside their own "Format error decoding …": take its number back.
+    let text = e.to_string();
+    let code = io.and_then(std::io::Error::raw_os_error).or_else(|| {
+        let n = text.split("(os error ").nth(1)?;
+        n[..n.find(')')?].parse().ok()
+    });
+    match (code, io) {
+        (Some(28), _) => "No space left on device (the disk is full)".into(),
+        (_, Some(x)) => x.to_string(),
+        (Some(c), None) => std::io::Error::from_raw_os_error(c).to_string(),
+        (None, None) => text,
     }
 }
 
@@ -119,7 +325,7 @@ pub fn write(
     format: Format,
     transfer: Transfer,
 ) -> Result<(), OutputError> {
-    write_through(film, path, format, transfer, |t| std::fs::File::create(t))
+    Target::claim(path, format)?.write(film, transfer)
 }
 
 /// Where the encoder writes: a file that can be flushed to the disk before
@@ -137,6 +343,7 @@ impl Sink for std::fs::File {
 fn write_through<S: Sink>(
     film: &Film,
     path: &Path,
+    tmp: &Path,
     format: Format,
     transfer: Transfer,
     create: impl FnOnce(&Path) -> std::io::Result<S>,
@@ -145,35 +352,41 @@ fn write_through<S: Sink>(
         path: path.to_owned(),
         reason,
     };
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d.to_owned(),
-        _ => PathBuf::from("."),
-    };
-    let name = path.file_name().ok_or_else(|| err("no file name".into()))?;
-    let tmp = dir.join(format!(
-        ".{}.{}.tmp",
-        name.to_string_lossy(),
-        std::process::id()
-    ));
-    set_pending(Some(tmp.clone()));
+    set_pending(Some(tmp.to_owned()));
     let result = (|| {
-        let file = create(&tmp).map_err(|e| err(e.to_string()))?;
+        let file = create(tmp).map_err(|e| err(reason(&e)))?;
         let mut out = std::io::BufWriter::new(file);
         let encoded = match format {
             Format::Exr | Format::Hdr => to_rgb32f(film).write_to(&mut out, format.image_format()),
+            Format::Ppm => write_ppm(&to_rgb8(film, transfer), &mut out),
             _ => to_rgb8(film, transfer).write_to(&mut out, format.image_format()),
         };
-        encoded.map_err(|e| err(e.to_string()))?;
-        let file = out.into_inner().map_err(|e| err(e.error().to_string()))?;
-        file.sync().map_err(|e| err(e.to_string()))?;
+        encoded.map_err(|e| err(reason(&e)))?;
+        let file = out.into_inner().map_err(|e| err(reason(e.error())))?;
+        file.sync().map_err(|e| err(reason(&e)))?;
         drop(file);
-        std::fs::rename(&tmp, path).map_err(|e| err(e.to_string()))
+        std::fs::rename(tmp, path).map_err(|e| err(reason(&e)))
     })();
     if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
+        let _ = std::fs::remove_file(tmp);
     }
     set_pending(None);
     result
+}
+
+/// Binary PPM (`P6`), which every viewer reads; the `image` crate's PNM
+/// default for RGB is PAM (`P7`), which many do not.
+fn write_ppm(img: &image::RgbImage, out: &mut impl std::io::Write) -> image::ImageResult<()> {
+    use image::ImageEncoder;
+    use image::codecs::pnm::{PnmEncoder, PnmSubtype, SampleEncoding};
+    PnmEncoder::new(out)
+        .with_subtype(PnmSubtype::Pixmap(SampleEncoding::Binary))
+        .write_image(
+            img.as_raw(),
+            img.width(),
+            img.height(),
+            image::ExtendedColorType::Rgb8,
+        )
 }
 
 #[cfg(test)]
@@ -257,26 +470,85 @@ mod tests {
         for ext in ["png", "jpg", "exr", "hdr", "ppm"] {
             let p = dir.path().join(format!("out.{ext}"));
             std::fs::write(&p, b"the old picture").unwrap();
-            let r = write_through(
-                &film,
-                &p,
-                Format::from_path(&p).unwrap(),
-                Transfer::Srgb,
-                |t| {
-                    Ok(NearlyFull {
-                        file: std::fs::File::create(t)?,
-                        room: 100,
-                    })
-                },
-            );
+            let target = Target::claim(&p, Format::from_path(&p).unwrap()).unwrap();
+            let r = target.write_with(&film, Transfer::Srgb, |t| {
+                Ok(NearlyFull {
+                    file: std::fs::File::create(t)?,
+                    room: 100,
+                })
+            });
             let Err(OutputError::Write { reason, .. }) = r else {
                 panic!("{ext}: a full disk was not an error: {r:?}");
             };
             assert!(reason.contains("No space left"), "{ext}: {reason}");
+            assert!(reason.contains("disk is full"), "{ext}: {reason}");
+            assert!(!reason.contains("decod"), "{ext}: {reason}");
             assert_eq!(std::fs::read(&p).unwrap(), b"the old picture", "{ext}");
         }
         // Nothing but the five old pictures: every temporary was removed.
         assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 5);
+    }
+
+    #[test]
+    fn ppm_is_binary_p6() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("out.ppm");
+        let film = Film::new(2, 1, vec![[1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]);
+        write(&film, &p, Format::Ppm, Transfer::Srgb).unwrap();
+        let bytes = std::fs::read(&p).unwrap();
+        assert!(bytes.starts_with(b"P6"), "{:?}", &bytes[..8]);
+        // The header, then width × height × 3 bytes of samples.
+        assert_eq!(&bytes[bytes.len() - 6..], &[255, 0, 0, 0, 0, 255]);
+    }
+
+    #[test]
+    fn targets_are_checked_before_rendering() {
+        let dir = tempfile::tempdir().unwrap();
+        let scene = dir.path().join("scene.png");
+        std::fs::write(&scene, b"a texture").unwrap();
+        // The input by another spelling, and through a symbolic link.
+        let other = dir
+            .path()
+            .join(".")
+            .join("sub")
+            .join("..")
+            .join("scene.png");
+        std::fs::create_dir(dir.path().join("sub")).unwrap();
+        let link = dir.path().join("link.png");
+        #[cfg(unix)]
+        std::os::unix::fs::symlink(&scene, &link).unwrap();
+        for p in [&scene, &other, &link] {
+            let e = Target::prepare(p, 8, 8, std::slice::from_ref(&scene)).unwrap_err();
+            assert!(matches!(e, OutputError::IsInput { .. }), "{e:?}");
+        }
+        assert_eq!(std::fs::read(&scene).unwrap(), b"a texture");
+        // A name of 250 characters works (its temporary is short)...
+        let long = dir.path().join(format!("{}.png", "n".repeat(246)));
+        let film = Film::new(1, 1, vec![[0.5; 3]]);
+        Target::prepare(&long, 1, 1, &[])
+            .unwrap()
+            .write(&film, Transfer::Srgb)
+            .unwrap();
+        assert!(long.exists());
+        // ...and one over the system's limit is refused up front.
+        let longer = dir.path().join(format!("{}.png", "n".repeat(NAME_MAX)));
+        let e = Target::prepare(&longer, 1, 1, &[]).unwrap_err();
+        assert!(matches!(e, OutputError::NameTooLong { .. }), "{e:?}");
+        // JPEG stores sides in 16 bits.
+        let jpg = dir.path().join("wide.jpg");
+        let e = Target::prepare(&jpg, 65_536, 2, &[]).unwrap_err();
+        assert!(e.to_string().contains("65535"), "{e}");
+        assert!(Target::prepare(&dir.path().join("wide.png"), 65_536, 2, &[]).is_ok());
+        // A missing folder is found before any work.
+        let e = Target::prepare(&dir.path().join("nope/x.png"), 1, 1, &[]).unwrap_err();
+        assert!(e.to_string().contains("does not exist"), "{e}");
+        assert!(!e.is_usage());
+        // A dropped, unwritten target leaves nothing behind.
+        let names: Vec<_> = std::fs::read_dir(dir.path())
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        assert!(names.iter().all(|n| !n.ends_with(".tmp")), "{names:?}");
     }
 
     #[test]

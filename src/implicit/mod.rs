@@ -16,6 +16,7 @@
 
 mod bounds;
 mod expand;
+mod memo;
 mod parse;
 mod poly;
 mod ray_poly;
@@ -62,10 +63,14 @@ impl Equation {
         constant: &dyn Fn(&str) -> Option<f64>,
     ) -> Result<Equation, Vec<EquationError>> {
         let parsed = parse::parse(text)?;
+        let key = memo::Key::new(text, &parsed, constant);
+        if let Some(eq) = memo::get(&key) {
+            return Ok(eq);
+        }
         let expanded = expand::expand(&parsed, constant)?;
         let scale = expanded.poly.max_abs();
         let poly = expanded.poly.scale(1.0 / scale);
-        Ok(Equation {
+        let eq = Equation {
             degree: poly.degree(),
             value: Compact::new(&poly),
             gradient: [0, 1, 2].map(|i| Compact::new(&poly.derivative(i))),
@@ -75,7 +80,9 @@ impl Equation {
                 .iter()
                 .map(|(e, c)| ([e[0], e[1], e[2]], *c))
                 .collect(),
-        })
+        };
+        memo::put(key, &eq);
+        Ok(eq)
     }
 
     /// The degree of the polynomial the equation became.

@@ -13,6 +13,13 @@ use std::ops::Range;
 /// the process instead of reporting an error.
 pub const MAX_NESTING: usize = 64;
 
+/// How deep the expression tree may be. Parentheses are capped above, but
+/// `^` and `_` chain without them (`(x)_1_1_1…`), and every later stage
+/// (expansion, and the branch test that runs in the render workers' small
+/// stacks) walks the tree recursively: the bound is checked here, at load,
+/// so nothing after this can recurse deeper.
+pub const MAX_TREE_DEPTH: usize = 256;
+
 #[derive(Clone, Debug, PartialEq)]
 pub struct Expr {
     pub node: Node,
@@ -44,6 +51,7 @@ pub fn parse(text: &str) -> Result<Parsed, Vec<EquationError>> {
     check_nesting(text)?;
     let mut pairs = RtParser::parse(Rule::equation, text).map_err(|e| vec![pest_error(e)])?;
     let eq = pairs.next().expect("the entry rule yields one pair");
+    check_chains(eq.clone())?;
     let mut sides = Vec::new();
     let mut errors = Vec::new();
     for p in eq.into_inner() {
@@ -68,6 +76,9 @@ pub fn parse(text: &str) -> Result<Parsed, Vec<EquationError>> {
     if !errors.is_empty() {
         return Err(errors);
     }
+    for side in sides.iter().flatten() {
+        check_depth(side)?;
+    }
     let mut sides = sides.into_iter().flatten();
     let lhs = sides.next().expect("the grammar always has a left side");
     Ok(Parsed {
@@ -76,22 +87,90 @@ pub fn parse(text: &str) -> Result<Parsed, Vec<EquationError>> {
     })
 }
 
+/// Checks the parentheses before pest sees them: nesting is capped (pest
+/// and the tree walkers recurse), and an unmatched one is reported as
+/// such, where it is, rather than as whatever pest expected next.
 fn check_nesting(text: &str) -> Result<(), Vec<EquationError>> {
-    let mut depth = 0usize;
+    let one = |span: Range<usize>, message: String, help: &str| {
+        Err(vec![EquationError {
+            span,
+            message,
+            help: Some(help.into()),
+        }])
+    };
+    let mut open = Vec::new();
     for (i, c) in text.char_indices() {
         match c {
             '(' => {
-                depth += 1;
-                if depth > MAX_NESTING {
-                    return Err(vec![EquationError {
-                        span: i..i + 1,
-                        message: format!("parentheses nested more than {MAX_NESTING} deep"),
-                        help: None,
-                    }]);
+                open.push(i);
+                if open.len() > MAX_NESTING {
+                    return one(
+                        i..i + 1,
+                        format!("parentheses nested more than {MAX_NESTING} deep"),
+                        "write the equation with fewer nested parentheses",
+                    );
                 }
             }
-            ')' => depth = depth.saturating_sub(1),
+            ')' if open.pop().is_none() => {
+                return one(
+                    i..i + 1,
+                    "this `)` closes nothing".into(),
+                    "remove it, or add the `(` it should close",
+                );
+            }
             _ => {}
+        }
+    }
+    match open.pop() {
+        Some(i) => one(
+            i..i + 1,
+            "this `(` is never closed: a `)` is missing".into(),
+            "add the `)` where the parenthesised part ends",
+        ),
+        None => Ok(()),
+    }
+}
+
+/// Refuses a run of more than [`MAX_NESTING`] `^`/`_` on one base before the
+/// tree is built (building one recurses once per operator when a unary
+/// minus is pushed down to the base). pest's `flatten` walks the pairs
+/// without recursion.
+fn check_chains(eq: Pair<Rule>) -> Result<(), Vec<EquationError>> {
+    for p in eq.into_inner().flatten() {
+        if p.as_rule() == Rule::eq_power
+            && let Some(op) = p.into_inner().nth(MAX_NESTING + 1)
+        {
+            let s = op.as_span();
+            return Err(vec![EquationError {
+                span: s.start()..s.end(),
+                message: format!("more than {MAX_NESTING} `^` or `_` in a row"),
+                help: Some("write the power or root once, with its combined index".into()),
+            }]);
+        }
+    }
+    Ok(())
+}
+
+/// The tree's depth, measured with an explicit stack (no recursion), must
+/// stay within [`MAX_TREE_DEPTH`].
+fn check_depth(root: &Expr) -> Result<(), Vec<EquationError>> {
+    let mut stack = vec![(root, 1usize)];
+    while let Some((e, d)) = stack.pop() {
+        if d > MAX_TREE_DEPTH {
+            return Err(vec![EquationError {
+                span: e.span.clone(),
+                message: format!("this equation nests more than {MAX_TREE_DEPTH} operations deep"),
+                help: Some("split it into fewer nested powers, roots and parentheses".into()),
+            }]);
+        }
+        match &e.node {
+            Node::Num(_) | Node::Name(_) => {}
+            Node::Neg(a) => stack.push((a, d + 1)),
+            Node::Sum(v) | Node::Product(v) => stack.extend(v.iter().map(|(_, a)| (a, d + 1))),
+            Node::Pow(a, b) | Node::Root(a, b) => {
+                stack.push((a, d + 1));
+                stack.push((b, d + 1));
+            }
         }
     }
     Ok(())
@@ -106,6 +185,8 @@ fn pest_error(e: pest::error::Error<Rule>) -> EquationError {
             Rule::eq_neg => "`-`",
             Rule::eq_pow => "`^`",
             Rule::eq_root => "`_`",
+            Rule::eq_postfix => "`^` or `_`",
+            Rule::eq_sum | Rule::eq_term | Rule::eq_side => "an expression",
             Rule::eq_number => "a number",
             Rule::eq_name => "a name",
             Rule::eq_paren | Rule::eq_atom | Rule::eq_power | Rule::eq_factor => {
@@ -113,7 +194,8 @@ fn pest_error(e: pest::error::Error<Rule>) -> EquationError {
             }
             Rule::eq_index => "an integer",
             Rule::EOI => "the end of the equation",
-            other => return format!("{other:?}"),
+            // Every rule is named above; a new one reads as a value.
+            _ => "a value",
         }
         .to_string()
     });
@@ -364,5 +446,50 @@ mod tests {
         let e = parse("x + * 2").unwrap_err();
         assert_eq!(e[0].span.start, 4);
         assert!(parse(&"(".repeat(100_000)).is_err());
+    }
+
+    /// Issue 17: an unmatched `(` gave a message naming the internal rule
+    /// `eq_postfix` and did not say the `)` was missing.
+    #[test]
+    fn unmatched_parentheses_say_so() {
+        let e = parse("x^2 + (y^2 - 1").unwrap_err();
+        assert!(e[0].message.contains("`)` is missing"), "{}", e[0].message);
+        assert_eq!(e[0].span, 6..7);
+        let e = parse("x + 1) * 2").unwrap_err();
+        assert!(e[0].message.contains("closes nothing"), "{}", e[0].message);
+        assert_eq!(e[0].span, 5..6);
+        // No error message anywhere names a grammar rule.
+        for bad in [
+            "x +", "(x", "x^", "x_", "2 3 ^", "x = = y", "x @ y", "^", ")(",
+        ] {
+            for e in parse(bad).unwrap_err() {
+                assert!(!e.message.contains("eq_"), "{bad}: {}", e.message);
+            }
+        }
+    }
+
+    /// Issue 17: 18,000 chained roots passed `--check` and then overflowed
+    /// a render worker's stack. Long chains are refused at parse time, and
+    /// any tree deeper than the bound is refused before it is expanded.
+    #[test]
+    fn chained_roots_and_powers_are_refused_not_a_crash() {
+        for op in ["_1", "^1"] {
+            let text = format!("(x){}", op.repeat(18_000));
+            let e = parse(&text).unwrap_err();
+            assert!(e[0].message.contains("in a row"), "{}", e[0].message);
+            assert_eq!(e[0].span.start, 3 + 2 * MAX_NESTING);
+            let neg = format!("-x{}", op.repeat(18_000));
+            assert!(parse(&neg).is_err());
+        }
+        // The limit itself is accepted.
+        assert!(parse(&format!("(x){}", "^1".repeat(MAX_NESTING))).is_ok());
+        // Parentheses within the nesting cap, each holding a chain within
+        // the chain cap, still add up past the tree bound.
+        let mut deep = "x".to_string();
+        for _ in 0..40 {
+            deep = format!("({deep}){}", "^1".repeat(10));
+        }
+        let e = parse(&deep).unwrap_err();
+        assert!(e[0].message.contains("nests more than"), "{}", e[0].message);
     }
 }

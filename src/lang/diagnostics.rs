@@ -107,10 +107,44 @@ impl fmt::Debug for Excerpt {
 impl Excerpt {
     pub fn new(name: &str, text: Arc<str>) -> Excerpt {
         Excerpt {
-            name: name.to_owned(),
-            text,
+            name: printable(name),
+            text: shown(text),
         }
     }
+}
+
+/// The text as it may be written to a terminal: each control character
+/// (tabs and line breaks aside) replaced by `?` or `¿` of the same length
+/// in bytes, so that every span still points at the same characters and a
+/// terminal escape in a file is never sent to the user's terminal.
+fn shown(text: Arc<str>) -> Arc<str> {
+    let is_bad = |c: char| c.is_control() && !matches!(c, '\t' | '\n' | '\r');
+    if !text.chars().any(is_bad) {
+        return text;
+    }
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        match (is_bad(c), c.len_utf8()) {
+            (false, _) => out.push(c),
+            (true, 1) => out.push('?'),
+            (true, _) => out.push('¿'), // C1 controls are two bytes, as is `¿`
+        }
+    }
+    Arc::from(out)
+}
+
+/// A name (a path) with control characters escaped, for messages.
+pub fn printable(name: &str) -> String {
+    name.chars()
+        .flat_map(|c| {
+            let escaped = if c.is_control() {
+                c.escape_default().collect::<Vec<_>>()
+            } else {
+                vec![c]
+            };
+            escaped.into_iter()
+        })
+        .collect()
 }
 
 impl SourceCode for Excerpt {
@@ -132,13 +166,25 @@ impl SourceCode for Excerpt {
             )) as Box<dyn SpanContents<'a> + 'a>)
         };
         let full = bytes.read_span(span, before, after)?;
+        // miette counts the column in bytes; the `file:line:col` it prints
+        // comes from a read with no context lines, whose column is the
+        // span's own: count it in characters, as an editor does.
+        let column = |bytes_column: usize, at: usize| {
+            if before > 0 {
+                return bytes_column;
+            }
+            let text = &*self.text;
+            let at = super::source::floor_char_boundary(text, at);
+            let line_start = text[..at].rfind(['\n', '\r']).map_or(0, |i| i + 1);
+            text[line_start..at].chars().count()
+        };
         let longest = full.data().split(|&b| b == b'\n').map(<[u8]>::len).max();
         if longest.unwrap_or(0) <= LONG_LINE {
             return named(
                 full.data(),
                 *full.span(),
                 full.line(),
-                full.column(),
+                column(full.column(), span.offset()),
                 full.line_count(),
             );
         }
@@ -160,7 +206,7 @@ impl SourceCode for Excerpt {
             &bytes[start..end],
             (start, end - start).into(),
             here.line(),
-            here.column(),
+            column(here.column(), start),
             1,
         )
     }
@@ -349,6 +395,25 @@ impl Diagnostic for Problems {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn excerpts_never_carry_control_characters() {
+        let text: Arc<str> = Arc::from("a \u{1b}[31m b\u{9b}c\td\n");
+        let e = Excerpt::new("x\u{1b}.rt", text.clone());
+        assert_eq!(&*e.text, "a ?[31m b¿c\td\n");
+        assert_eq!(e.text.len(), text.len(), "spans still fit");
+        assert_eq!(e.name, "x\\u{1b}.rt");
+    }
+
+    #[test]
+    fn columns_count_characters_not_bytes() {
+        // `é` and `€` are two and three bytes: `x` is the 5th character.
+        let text: Arc<str> = Arc::from("é€  x\n");
+        let e = Excerpt::new("a.rt", text);
+        let at = "é€  ".len();
+        let c = e.read_span(&(at, 1).into(), 0, 0).unwrap();
+        assert_eq!((c.line(), c.column()), (0, 4));
+    }
 
     #[test]
     fn suggestions_catch_typos_and_swaps() {

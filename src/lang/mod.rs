@@ -19,6 +19,20 @@ use std::sync::Arc;
 /// caught separately).
 pub const MAX_INCLUDE_DEPTH: usize = 32;
 
+/// The budgets below hold for the whole scene, not per file: a file that
+/// includes the next twice, 31 times over, is 2^31 includes of a small
+/// file, and a nesting limit checked per file is passed by spreading the
+/// nesting over files.
+///
+/// The most bytes of scene text read for one scene, root and every include
+/// counted each time it is included.
+pub const MAX_TOTAL_BYTES: u64 = source::MAX_SCENE_BYTES;
+/// The most `include`s one scene may perform (each time counts).
+pub const MAX_INCLUDES: usize = 4096;
+/// How deeply blocks may nest in the whole scene, across includes: the
+/// parser's per-file cap, applied to the spliced program.
+pub const MAX_BLOCK_DEPTH: usize = parser::MAX_NESTING;
+
 /// A parsed scene file with its includes spliced in, in order.
 #[derive(Debug)]
 pub struct Program {
@@ -53,10 +67,13 @@ pub fn load_text(path: &Path, text: String) -> Result<Program, Problems> {
     let mut loader = Loader {
         sources: Sources::default(),
         errors: Vec::new(),
+        bytes: text.len() as u64,
+        includes: 0,
+        over_budget: false,
     };
     let name = path.display().to_string();
     let canonical = path.canonicalize().unwrap_or_else(|_| path.to_path_buf());
-    let (root, items) = loader.file(name, path.to_path_buf(), text, None, &[canonical]);
+    let (root, items) = loader.file(name, path.to_path_buf(), text, None, &[canonical], 0);
     let program = Program {
         sources: loader.sources,
         root,
@@ -72,6 +89,13 @@ pub fn load_text(path: &Path, text: String) -> Result<Program, Problems> {
 struct Loader {
     sources: Sources,
     errors: Vec<Error>,
+    /// Scene bytes read so far, every copy of every include counted.
+    bytes: u64,
+    /// `include`s performed so far.
+    includes: usize,
+    /// Set once a whole-scene budget is spent: one error says so, and no
+    /// further file is read.
+    over_budget: bool,
 }
 
 impl Loader {
@@ -82,7 +106,13 @@ impl Loader {
         text: String,
         included_from: Option<Span>,
         chain: &[PathBuf],
+        depth: usize,
     ) -> (FileId, Vec<Item>) {
+        // A byte-order mark, as some Windows editors write, is no text.
+        let text = match text.strip_prefix('\u{feff}') {
+            Some(rest) => rest.to_owned(),
+            None => text,
+        };
         let id = self.sources.add(SourceFile {
             name,
             path,
@@ -90,18 +120,39 @@ impl Loader {
             included_from,
         });
         let text = self.sources.get(id).text.clone();
+        if let Some(e) = control_character(&text, id) {
+            self.errors.push(e);
+            return (id, Vec::new());
+        }
         let items = match parser::parse(&text, id) {
             Ok(items) => items,
             Err(errs) => {
-                self.errors.extend(errs);
+                match included_from {
+                    Some(at)
+                        if !is_scene_name(&self.sources.get(id).path)
+                            || errs.iter().any(|e| e.span.start <= first_token(&text)) =>
+                    {
+                        self.errors
+                            .push(not_a_scene(at, &self.sources.get(id).name));
+                    }
+                    _ => self.errors.extend(errs),
+                }
                 return (id, Vec::new());
             }
         };
-        (id, self.splice(items, id, chain))
+        (id, self.splice(items, id, chain, depth))
     }
 
     /// Replaces each `include` (at any depth) by the included file's items.
-    fn splice(&mut self, items: Vec<Item>, id: FileId, chain: &[PathBuf]) -> Vec<Item> {
+    /// `depth` is how many blocks enclose `items` in the whole scene, the
+    /// including files' blocks counted.
+    fn splice(
+        &mut self,
+        items: Vec<Item>,
+        id: FileId,
+        chain: &[PathBuf],
+        depth: usize,
+    ) -> Vec<Item> {
         let mut out = Vec::with_capacity(items.len());
         for item in items {
             match item {
@@ -110,9 +161,19 @@ impl Loader {
                     string,
                     content,
                     ..
-                } => out.extend(self.include(&text, string, content, id, chain)),
+                } => out.extend(self.include(&text, string, content, id, chain, depth)),
                 Item::Block(mut b) => {
-                    b.items = self.splice(std::mem::take(&mut b.items), id, chain);
+                    if depth + 1 > MAX_BLOCK_DEPTH {
+                        self.errors.push(
+                            Error::new(b.span, "blocks nest too deeply across includes")
+                                .label(format!("more than {MAX_BLOCK_DEPTH} blocks deep here"))
+                                .help(format!(
+                                    "blocks may nest at most {MAX_BLOCK_DEPTH} deep in the whole scene, the blocks around each `include` counted"
+                                )),
+                        );
+                        continue;
+                    }
+                    b.items = self.splice(std::mem::take(&mut b.items), id, chain, depth + 1);
                     out.push(Item::Block(b));
                 }
                 other => out.push(other),
@@ -128,7 +189,11 @@ impl Loader {
         content: Span,
         from: FileId,
         chain: &[PathBuf],
+        depth: usize,
     ) -> Vec<Item> {
+        if self.over_budget {
+            return Vec::new();
+        }
         let dir = self.sources.dir_of(from);
         let path = clean(&dir.join(rel));
         let Ok(canonical) = path.canonicalize() else {
@@ -161,8 +226,32 @@ impl Loader {
             );
             return Vec::new();
         }
-        let text = match source::read_text(&canonical, source::MAX_SCENE_BYTES) {
+        self.includes += 1;
+        if self.includes > MAX_INCLUDES {
+            self.over_budget = true;
+            self.errors.push(
+                Error::new(string, "too many includes")
+                    .label(format!("include number {}", MAX_INCLUDES + 1))
+                    .help(format!(
+                        "a scene may perform at most {MAX_INCLUDES} includes in all (a file included twice counts twice)"
+                    )),
+            );
+            return Vec::new();
+        }
+        let left = MAX_TOTAL_BYTES.saturating_sub(self.bytes);
+        let text = match source::read_text(&canonical, left) {
             Ok(t) => t,
+            Err(e) if e.contains("above the limit") => {
+                self.over_budget = true;
+                self.errors.push(
+                    Error::new(string, "the scene's included text is too large")
+                        .label(format!("this include passes {MAX_TOTAL_BYTES} bytes in all"))
+                        .help(format!(
+                            "a scene and all its includes may read at most {MAX_TOTAL_BYTES} bytes (a file included twice counts twice)"
+                        )),
+                );
+                return Vec::new();
+            }
             Err(e) => {
                 self.errors.push(
                     Error::new(string, format!("cannot read the included file `{rel}`")).label(e),
@@ -171,11 +260,74 @@ impl Loader {
             }
         };
         let _ = content;
+        self.bytes += text.len() as u64;
         let mut chain = chain.to_vec();
         chain.push(canonical);
         let name = path.display().to_string();
-        self.file(name, path, text, Some(string), &chain).1
+        self.file(name, path, text, Some(string), &chain, depth).1
     }
+}
+
+/// The first control character in a scene's text (tabs and line breaks
+/// aside), as an error. Terminal escapes would be echoed into the user's
+/// terminal by the excerpt of a later error (`ESC[31m` also reads as an
+/// unclosed `[`), and only binary data or a mangled file holds them.
+fn control_character(text: &str, file: FileId) -> Option<Error> {
+    let (at, c) = text
+        .char_indices()
+        .find(|&(_, c)| c.is_control() && !matches!(c, '\t' | '\n' | '\r'))?;
+    let name = match c {
+        '\u{1b}' => " (ESC, a terminal escape)".to_string(),
+        '\0' => " (NUL)".to_string(),
+        _ => String::new(),
+    };
+    Some(
+        Error::new(
+            Span::new(file, at, at + c.len_utf8()),
+            format!(
+                "the text holds a control character U+{:04X}{name}",
+                c as u32
+            ),
+        )
+        .label("here")
+        .help("a scene is plain text; is this a scene file?"),
+    )
+}
+
+/// Whether a file's name says it is a scene (`.rt`, or `.inc` as POV-Ray
+/// users name theirs): a file named otherwise that does not parse is
+/// reported as no scene, without echoing its lines.
+fn is_scene_name(path: &Path) -> bool {
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("rt") || e.eq_ignore_ascii_case("inc"))
+}
+
+/// Where the first token of a file starts: after blank space and
+/// comments. An included file whose first token is already wrong is no
+/// scene at all.
+fn first_token(text: &str) -> usize {
+    let mut rest = text;
+    loop {
+        let trimmed = rest.trim_start();
+        if let Some(r) = trimmed.strip_prefix("//") {
+            rest = r.find('\n').map_or("", |i| &r[i..]);
+        } else if let Some(r) = trimmed.strip_prefix("/*") {
+            match r.find("*/") {
+                Some(i) => rest = &r[i + 2..],
+                None => return text.len(),
+            }
+        } else {
+            return text.len() - trimmed.len();
+        }
+    }
+}
+
+/// One error at the `include`, instead of the included file's lines echoed
+/// in a cascade of syntax errors.
+fn not_a_scene(at: Span, name: &str) -> Error {
+    Error::new(at, format!("`{name}` is not a scene file"))
+        .label("included here")
+        .help("it does not parse as a scene: include only `.rt` scene files")
 }
 
 /// `a/./b/../c` → `a/c`, without touching the file system (for names in

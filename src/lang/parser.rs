@@ -709,7 +709,8 @@ fn syntax_error(e: pest::error::Error<Rule>, text: &str, at: Loc) -> Error {
     }
     let (found, len) = found_at(text, pos);
     let list = match expected.len() {
-        0 => "something else".to_string(),
+        // pest named nothing: say what may start a statement.
+        0 => "a statement (a name, a value or a block)".to_string(),
         1 => expected[0].clone(),
         n => format!("{} or {}", expected[..n - 1].join(", "), expected[n - 1]),
     };
@@ -723,6 +724,7 @@ fn syntax_error(e: pest::error::Error<Rule>, text: &str, at: Loc) -> Error {
             "values in a block are separated by spaces; commas go only inside `< >`, `( )` and `[ ]`",
         ),
         "`;`" => err.help("statements need no `;`"),
+        "`:`" => err.help("a parameter's value follows its name after a space: `radius 1`, not `radius: 1`"),
         _ => err,
     }
 }

@@ -134,14 +134,30 @@ fn huge_images_are_refused_before_allocating() {
         "-o".as_ref(),
         out.as_os_str(),
         "--width".as_ref(),
-        "100000".as_ref(),
+        "60000".as_ref(),
         "--height".as_ref(),
-        "100000".as_ref(),
+        "60000".as_ref(),
     ]);
-    assert!(!o.status.success());
+    assert_eq!(o.status.code(), Some(2));
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("--allow-large"), "{err}");
+    // 3.6 gigapixels at 15 bytes each (film and 8-bit copy): 50.3 GiB.
+    assert!(
+        err.contains("3600.0 megapixels") && err.contains("50.3 GiB"),
+        "{err}"
+    );
     assert!(!out.exists());
+    // An .exr's copy is f32: 24 bytes a pixel, 80.5 GiB.
+    let exr = dir.path().join("out.exr");
+    let o = raytrace(&[
+        scene.as_os_str(),
+        "-o".as_ref(),
+        exr.as_os_str(),
+        "--width=60000".as_ref(),
+        "--height=60000".as_ref(),
+    ]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("80.5 GiB"), "{err}");
 }
 
 #[test]
@@ -162,4 +178,280 @@ fn an_unbounded_implicit_surface_renders_with_a_warning() {
         "--quiet".as_ref(),
     ]);
     assert!(o.stderr.is_empty(), "--quiet is quiet");
+}
+
+/// A render that takes many seconds: a refusal that comes quickly came
+/// before it.
+const SLOW: &str = "camera { position <0, 0, 5> look_at <0, 0, 0> up <0, 1, 0> fov 40 }
+render { width 3000 height 3000 samples 16 max_depth 8 }
+light { position <2, 5, 5> intensity 1 }
+sphere { radius 1 material { colour rgb(1, 1, 1) reflect 0.5 } }
+plane { normal <0, 1, 0> material { colour rgb(1, 1, 1) reflect 0.5 } translate <0, -1, 0> }
+";
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// Issue 17: the exit codes are decided, stated in `--help` and the
+/// README, and each is what the program does.
+#[test]
+fn exit_codes_are_documented_and_kept() {
+    let (dir, scene) = scene_file(SCENE);
+    let out = dir.path().join("out.png");
+    let help = raytrace(&["--help".as_ref()]);
+    let text = String::from_utf8_lossy(&help.stdout);
+    let readme = std::fs::read_to_string(project_root().join("README.md")).unwrap();
+    for code in ["0 ", "1 ", "2 ", "3 ", "128+N"] {
+        assert!(
+            text.contains(&format!("  {code}")),
+            "--help lacks {code}: {text}"
+        );
+        assert!(
+            readme.contains(&format!("| {}", code.trim())),
+            "README lacks {code}"
+        );
+    }
+    // 1: a mistake in the scene.
+    let (_d, bad) = scene_file("sphere { radius -1 }");
+    assert_eq!(
+        raytrace(&[bad.as_os_str(), "--check".as_ref()])
+            .status
+            .code(),
+        Some(1)
+    );
+    // 2: the command line (clap's and ours).
+    let o = raytrace(&[
+        scene.as_os_str(),
+        "-o".as_ref(),
+        out.as_os_str(),
+        "--frob".as_ref(),
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    let o = raytrace(&[scene.as_os_str(), "-o".as_ref(), "x.gif".as_ref()]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    // 3: the system: an unreadable scene, an unwritable folder.
+    let o = raytrace(&["/no/such/scene.rt".as_ref(), "--check".as_ref()]);
+    assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
+    assert!(stderr(&o).contains("cannot read"), "{}", stderr(&o));
+    let o = raytrace(&[
+        scene.as_os_str(),
+        "-o".as_ref(),
+        "/no/such/dir/x.png".as_ref(),
+    ]);
+    assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
+    // 0.
+    let o = raytrace(&[scene.as_os_str(), "-o".as_ref(), out.as_os_str()]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+}
+
+/// Issue 17: `--width 0` and `--height -5` were refused without the range;
+/// `--width 100000` started rendering; `--threads 10000` failed after
+/// seconds with "Resource temporarily unavailable".
+#[test]
+fn flag_ranges_are_stated_and_checked_first() {
+    let (dir, scene) = scene_file(SCENE);
+    let out = dir.path().join("out.png");
+    for (flag, value, range) in [
+        ("--width", "0", "1..=65535"),
+        ("--height", "-5", "1..=65535"),
+        ("--width", "100000", "1..=65535"),
+        ("--threads", "10000", "1..=256"),
+        ("--samples", "17", "1..=16"),
+    ] {
+        let start = std::time::Instant::now();
+        let o = raytrace(&[
+            scene.as_os_str(),
+            "-o".as_ref(),
+            out.as_os_str(),
+            format!("{flag}={value}").as_ref(),
+        ]);
+        assert_eq!(o.status.code(), Some(2), "{flag} {value}");
+        let e = stderr(&o);
+        assert!(e.contains(flag) && e.contains(range), "{flag} {value}: {e}");
+        assert!(start.elapsed().as_secs() < 5);
+    }
+    // A scene's own `render` block has its own range: a scene error.
+    let (_d, wide) = scene_file(&SCENE.replace("width 32", "width 70000"));
+    let o = raytrace(&[wide.as_os_str(), "-o".as_ref(), out.as_os_str()]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(stderr(&o).contains("from 1 to 16384"), "{}", stderr(&o));
+    assert!(!out.exists());
+}
+
+/// Issue 17: `-o` naming the scene, an include or a texture, by any
+/// spelling, overwrote it. It is refused before any rendering.
+#[test]
+fn the_output_may_not_be_one_of_the_scenes_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::create_dir(d.join("sub")).unwrap();
+    image::RgbImage::from_pixel(2, 2, image::Rgb([200, 10, 10]))
+        .save(d.join("tex.png"))
+        .unwrap();
+    std::fs::write(d.join("inc.ppm"), "light { position <1, 2, 3> }\n").unwrap();
+    // A scene whose name has an image extension.
+    let scene = d.join("scene.hdr");
+    std::fs::write(
+        &scene,
+        format!(
+            "{SCENE}include \"inc.ppm\"\nmaterial m {{ colour image \"sub/../tex.png\" }}\nsphere {{ radius 0.5 material m }}\n"
+        ),
+    )
+    .unwrap();
+    let before: Vec<Vec<u8>> = ["scene.hdr", "inc.ppm", "tex.png"]
+        .iter()
+        .map(|f| std::fs::read(d.join(f)).unwrap())
+        .collect();
+    for target in [
+        d.join("scene.hdr"),
+        d.join("sub/../scene.hdr"),
+        d.join("./inc.ppm"),
+        d.join("tex.png"),
+        d.join("sub/../sub/../tex.png"),
+    ] {
+        let o = raytrace(&[scene.as_os_str(), "-o".as_ref(), target.as_os_str()]);
+        assert_eq!(
+            o.status.code(),
+            Some(2),
+            "{}: {}",
+            target.display(),
+            stderr(&o)
+        );
+        assert!(
+            stderr(&o).contains("the scene's own file"),
+            "{}",
+            stderr(&o)
+        );
+    }
+    let after: Vec<Vec<u8>> = ["scene.hdr", "inc.ppm", "tex.png"]
+        .iter()
+        .map(|f| std::fs::read(d.join(f)).unwrap())
+        .collect();
+    assert_eq!(before, after);
+    // Another file in the same folder is fine.
+    let o = raytrace(&[
+        scene.as_os_str(),
+        "-o".as_ref(),
+        d.join("out.png").as_os_str(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+}
+
+/// Issue 17: everything about the output is known before the first ray:
+/// a missing or read-only folder and a name too long are refused at once,
+/// not after a long render; a 250-character name works.
+#[test]
+fn output_problems_are_found_before_rendering() {
+    let (dir, scene) = scene_file(SLOW);
+    let long = "n".repeat(300) + ".png";
+    let missing = dir.path().join("missing/out.png");
+    let too_long = dir.path().join(&long);
+    for (target, code, words) in [
+        (missing.as_os_str(), 3, "does not exist"),
+        (too_long.as_os_str(), 2, "the limit is 255 bytes"),
+    ] {
+        let start = std::time::Instant::now();
+        let o = raytrace(&[scene.as_os_str(), "-o".as_ref(), target]);
+        assert_eq!(o.status.code(), Some(code), "{}", stderr(&o));
+        assert!(stderr(&o).contains(words), "{}", stderr(&o));
+        assert!(start.elapsed().as_secs() < 5, "{:?}", start.elapsed());
+    }
+    // A read-only folder (root may write anyway, so only when it refuses).
+    let ro = tempfile::tempdir().unwrap();
+    let mut perm = std::fs::metadata(ro.path()).unwrap().permissions();
+    perm.set_readonly(true);
+    std::fs::set_permissions(ro.path(), perm).unwrap();
+    if std::fs::File::create(ro.path().join("probe")).is_err() {
+        let start = std::time::Instant::now();
+        let o = raytrace(&[
+            scene.as_os_str(),
+            "-o".as_ref(),
+            ro.path().join("x.png").as_os_str(),
+        ]);
+        assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
+        assert!(stderr(&o).contains("no permission"), "{}", stderr(&o));
+        assert!(start.elapsed().as_secs() < 5);
+    }
+    // 250 characters: the temporary's name is short, so this is written.
+    let (dir, small) = scene_file(SCENE);
+    let fine = dir.path().join("m".repeat(246) + ".png");
+    let o = raytrace(&[small.as_os_str(), "-o".as_ref(), fine.as_os_str()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(image::open(&fine).is_ok());
+}
+
+/// Whether process `pid` has a handler for signal `n` (Linux's
+/// /proc/PID/status `SigCgt` mask; elsewhere, assume so after a moment).
+fn catches(pid: u32, n: i32) -> bool {
+    let Ok(status) = std::fs::read_to_string(format!("/proc/{pid}/status")) else {
+        std::thread::sleep(std::time::Duration::from_millis(500));
+        return true;
+    };
+    status
+        .lines()
+        .find_map(|l| l.strip_prefix("SigCgt:"))
+        .and_then(|m| u64::from_str_radix(m.trim(), 16).ok())
+        .is_some_and(|mask| mask & (1 << (n - 1)) != 0)
+}
+
+/// Issue 17: SIGTERM and SIGHUP exited with 130. Every catchable signal
+/// removes the temporary image and exits with 128 + its number.
+#[cfg(unix)]
+#[test]
+fn signals_exit_with_128_plus_their_number_and_clean_up() {
+    let (dir, scene) = scene_file(SLOW);
+    let out = dir.path().join("out.png");
+    std::fs::write(&out, b"the previous image").unwrap();
+    for (signal, number) in [("-INT", 2), ("-TERM", 15), ("-HUP", 1), ("-USR1", 10)] {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_raytrace"))
+            .args([
+                scene.as_os_str(),
+                "-q".as_ref(),
+                "-o".as_ref(),
+                out.as_os_str(),
+            ])
+            .spawn()
+            .unwrap();
+        // Wait until the handlers are installed (the process's caught-signal
+        // mask shows it), so the signal meets them and not the default.
+        let start = std::time::Instant::now();
+        while !catches(child.id(), number) {
+            assert!(start.elapsed().as_secs() < 20, "no handler appeared");
+            std::thread::sleep(std::time::Duration::from_millis(10));
+        }
+        std::thread::sleep(std::time::Duration::from_millis(200));
+        let killed = Command::new("kill")
+            .args([signal, &child.id().to_string()])
+            .status()
+            .unwrap();
+        assert!(killed.success());
+        let status = child.wait().unwrap();
+        assert_eq!(status.code(), Some(128 + number), "{signal}: {status:?}");
+        assert_eq!(std::fs::read(&out).unwrap(), b"the previous image");
+        let names: Vec<_> = std::fs::read_dir(dir.path())
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        assert!(
+            names.iter().all(|n| !n.ends_with(".tmp")),
+            "{signal}: {names:?}"
+        );
+    }
+}
+
+/// Issue 17: `--check` said nothing on success.
+#[test]
+fn check_prints_a_one_line_summary() {
+    let (_dir, scene) = scene_file(SCENE);
+    let o = raytrace(&[scene.as_os_str(), "--check".as_ref()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert_eq!(text.lines().count(), 1, "{text}");
+    assert!(
+        text.contains("scene.rt: ok, 1 object, 1 light, no warnings"),
+        "{text}"
+    );
+    let o = raytrace(&[scene.as_os_str(), "--check".as_ref(), "-q".as_ref()]);
+    assert!(o.stdout.is_empty());
 }

@@ -512,3 +512,202 @@ fn a_mistake_on_a_huge_line_gives_a_short_report() {
         assert!(err.len() < 2000, "{} bytes of report", err.len());
     }
 }
+
+/// Issue 17: `(x)_1_1_1…` passed `--check` and then overflowed a render
+/// worker's stack. It is refused at load, by `--check` too.
+#[test]
+fn chained_equation_roots_are_refused_at_load() {
+    for op in ["_1", "^1"] {
+        let src = format!(
+            "camera {{ position <0, 0, 5> look_at <0, 0, 0> up <0, 1, 0> fov 40 }}\nimplicit \"(x){} + y^2 + z^2 - 1\" {{ }}",
+            op.repeat(18_000)
+        );
+        let (_dir, scene) = scene_file(&src);
+        let out = raytrace(&[scene.as_os_str(), "--check".as_ref()]);
+        assert_refused(&out, "in a row");
+        assert_eq!(out.status.code(), Some(1));
+    }
+}
+
+/// Issue 17: 31 files of about a kilobyte, each including the next twice
+/// (within the 32-file nesting limit), are 2^30 includes. The whole scene's
+/// include count is budgeted, so this ends in one diagnostic, quickly.
+#[test]
+fn include_amplification_is_bounded_for_the_whole_scene() {
+    let dir = tempfile::tempdir().unwrap();
+    let padding = format!("// {}\n", "x".repeat(1200));
+    for k in 0..30 {
+        let body = format!("{padding}include \"f{0}.rt\"\ninclude \"f{0}.rt\"\n", k + 1);
+        std::fs::write(dir.path().join(format!("f{k}.rt")), body).unwrap();
+    }
+    std::fs::write(dir.path().join("f30.rt"), "sphere { radius 1 }\n").unwrap();
+    let start = std::time::Instant::now();
+    let e = outcome_at(dir.path(), "include \"f0.rt\"").unwrap_err();
+    assert!(
+        e.contains("too many includes"),
+        "{}",
+        &e[..e.len().min(600)]
+    );
+    assert!(start.elapsed().as_secs() < 20, "{:?}", start.elapsed());
+    // The byte budget is for the scene, not per file: few includes of one
+    // big file add up past it.
+    let big = format!("// {}\n", "y".repeat(9 << 20));
+    std::fs::write(dir.path().join("big.rt"), big).unwrap();
+    let e = outcome_at(dir.path(), &"include \"big.rt\"\n".repeat(8)).unwrap_err();
+    assert!(
+        e.contains("included text is too large"),
+        "{}",
+        &e[..e.len().min(600)]
+    );
+    // Under both budgets, repeated includes still work.
+    let ok = outcome_at(dir.path(), &"include \"f30.rt\"\n".repeat(50));
+    assert!(ok.is_ok(), "{ok:?}");
+}
+
+/// Issue 17: the nesting limit restarted in each included file; 31 files
+/// each opening 40 blocks and including the next were accepted.
+#[test]
+fn block_nesting_is_counted_across_includes() {
+    let dir = tempfile::tempdir().unwrap();
+    let files = 31;
+    for k in 0..files {
+        let inner = if k + 1 < files {
+            format!("include \"n{}.rt\"", k + 1)
+        } else {
+            "sphere { radius 1 }".to_string()
+        };
+        let body = format!("{}{inner}{}", "union { ".repeat(40), " }".repeat(40));
+        std::fs::write(dir.path().join(format!("n{k}.rt")), body).unwrap();
+    }
+    let e = outcome_at(dir.path(), "include \"n0.rt\"").unwrap_err();
+    assert!(
+        e.contains("nest too deeply across includes"),
+        "{}",
+        &e[..e.len().min(600)]
+    );
+    // 40 + 20 blocks over two files is within the limit.
+    std::fs::write(
+        dir.path().join("two.rt"),
+        format!(
+            "{}sphere {{ radius 1 }}{}",
+            "union { ".repeat(20),
+            " }".repeat(20)
+        ),
+    )
+    .unwrap();
+    let src = format!(
+        "camera {{ position <0, 0, 5> look_at <0, 0, 0> up <0, 1, 0> fov 40 }}\n{}include \"two.rt\"{}",
+        "union { ".repeat(40),
+        " }".repeat(40)
+    );
+    assert!(outcome_at(dir.path(), &src).is_ok());
+}
+
+/// Issue 17's list of messages, each checked for what it must and must
+/// not say.
+#[test]
+fn the_messages_issue_17_listed() {
+    let cam = "camera { position <0, 0, 5> look_at <0, 0, 0> up <0, 1, 0> fov 40 }\n";
+    // A byte-order mark is no error.
+    assert!(outcome(&format!("\u{feff}{cam}sphere {{ radius 1 }}")).is_ok());
+    // A `:` at the very start names what may start a statement.
+    let e = outcome(": sphere { radius 1 }").unwrap_err();
+    assert!(!e.contains("something else"), "{e}");
+    assert!(e.contains("a statement"), "{e}");
+    assert!(e.contains("not `radius: 1`"), "{e}");
+    // Terminal escapes are refused as such, never echoed, and `ESC[31m`
+    // is not an unclosed `[`.
+    let e = outcome(&format!("{cam}sphere {{ radius 1 }} \u{1b}[31m red")).unwrap_err();
+    assert!(!e.contains("\u{1b}[31m"), "{e:?}");
+    assert!(e.contains("control character U+001B"), "{e}");
+    assert!(!e.contains("never closed"), "{e}");
+    // Columns count characters: `raduis` after `é€` is column 34, not 37.
+    let (_dir, scene) = scene_file("sphere { centre <0,0,0> /* é€ */ raduis 1 }");
+    let out = raytrace(&[scene.as_os_str(), "--check".as_ref()]);
+    assert_refused(&out, "scene.rt:1:34]");
+    // A camera at 1e155 is too far, not "parallel".
+    let e = outcome(
+        "camera { position <1e155, 0, 0> look_at <0, 0, 0> up <0, 1, 0> fov 40 }\nsphere { radius 1 }",
+    )
+    .unwrap_err();
+    assert!(!e.contains("parallel"), "{e}");
+    assert!(e.contains("too far"), "{e}");
+    // A box face given `material { … }`: one error, not a cascade.
+    let e = outcome(&format!(
+        "{cam}box {{ min <-1, -1, -1> max <1, 1, 1> front material {{ colour rgb(1, 0, 0) reflect 0.2 }} }}"
+    ))
+    .unwrap_err();
+    assert!(e.contains("\"1 errors"), "{e}");
+    assert!(e.contains("without the word `material`"), "{e}");
+}
+
+/// Issue 17: including a file that is not a scene echoed its lines in a
+/// cascade of syntax errors; it is one error at the `include`.
+#[test]
+fn including_a_file_that_is_no_scene_is_one_error_that_echoes_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("notes.txt"),
+        "Secret plans: line one.\nLine two of the plans.\n",
+    )
+    .unwrap();
+    let e = outcome_at(dir.path(), "include \"notes.txt\"\nsphere { radius 1 }").unwrap_err();
+    assert!(e.contains("is not a scene file"), "{e}");
+    assert!(
+        !e.contains("Secret plans") && !e.contains("Line two"),
+        "{e}"
+    );
+    // A scene with a mistake further in still shows its lines.
+    std::fs::write(
+        dir.path().join("inc.rt"),
+        "sphere { radius 1 }\nsphere { raduis 1 }\n",
+    )
+    .unwrap();
+    let e = outcome_at(dir.path(), "include \"inc.rt\"").unwrap_err();
+    assert!(e.contains("raduis"), "{e}");
+}
+
+/// Issue 17: one PLY face with 100,000 corners ran past 15 s and 1 GB at
+/// 64×64 (a fan's slivers all overlap). Now it draws in seconds, and the
+/// disc it describes covers the pixels a disc of that radius must.
+#[test]
+fn a_hundred_thousand_corner_face_draws_in_seconds() {
+    let n = 100_000;
+    let mut ply = format!(
+        "ply\nformat ascii 1.0\nelement vertex {n}\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list int int vertex_indices\nend_header\n"
+    );
+    for k in 0..n {
+        let a = std::f64::consts::TAU * k as f64 / n as f64;
+        ply += &format!("{} {} 0\n", a.cos(), a.sin());
+    }
+    ply += &format!("{n}");
+    for k in 0..n {
+        ply += &format!(" {k}");
+    }
+    ply += "\n";
+    let (dir, scene) = scene_file(
+        "camera { position <0, 0, 4> look_at <0, 0, 0> up <0, 1, 0> fov 40 }\n\
+         render { width 64 height 64 }\n\
+         light { position <0, 0, 5> }\n\
+         mesh \"disc.ply\" { material { colour rgb(1, 1, 1) } }",
+    );
+    std::fs::write(dir.path().join("disc.ply"), ply).unwrap();
+    let out = dir.path().join("disc.png");
+    let start = std::time::Instant::now();
+    let o = raytrace(&[
+        scene.as_os_str(),
+        "-q".as_ref(),
+        "-o".as_ref(),
+        out.as_os_str(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(start.elapsed().as_secs() < 10, "{:?}", start.elapsed());
+    // The unit disc seen from 4 away with a 40° field: radius 1 over a
+    // half-width of 4 tan 20° is 0.687 of the half-image, so the lit area
+    // is π (0.687 · 32)² ≈ 1524 pixels.
+    let img = image::open(&out).unwrap().to_rgb8();
+    let lit = img.pixels().filter(|p| p.0[0] > 40).count() as f64;
+    let r = 32.0 / (4.0 * 20f64.to_radians().tan());
+    let expect = std::f64::consts::PI * r * r;
+    assert!((lit - expect).abs() < 0.05 * expect, "{lit} vs {expect}");
+}

@@ -514,7 +514,16 @@ impl<'p> Builder<'p> {
             .all(|(given, ok)| given.is_none() || ok);
         if parts_ok && cam.frame().is_none() {
             let span_of = |q: &Option<Param>| q.as_ref().map(|q| q.values[0].span());
-            if (cam.look_at - cam.position).length() < 1e-300 {
+            if !(cam.look_at - cam.position).length().is_finite() {
+                // The view direction's length overflows (a coordinate near
+                // 1e155 squares past f64's range): no angle is to blame.
+                let at = span_of(&position).or(span_of(&look_at)).unwrap_or(kw.span);
+                self.err(
+                    Error::new(at, "the camera is too far from `look_at` to aim it")
+                        .label("the distance to `look_at` is beyond the range of numbers")
+                        .help("keep the camera's coordinates below about 1e150"),
+                );
+            } else if (cam.look_at - cam.position).length() < 1e-300 {
                 let at = span_of(&look_at).or(span_of(&position)).unwrap_or(kw.span);
                 self.err(
                     Error::new(at, "the camera looks at its own position")

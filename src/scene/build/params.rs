@@ -397,6 +397,37 @@ pub fn read(
                     .as_name()
                     .is_some_and(|n| env.material_names.contains(n.node))
         };
+        // `front material { … }`: a face or cap takes its material directly.
+        // Read as written, `front` would be empty and the block the object's
+        // own material, then a cascade; it is one mistake, so one error,
+        // and the material after the word is still read.
+        if values.is_empty()
+            && spec.expects == "a material"
+            && spec.name != "material"
+            && let Some(word) = items.get(i).and_then(Item::as_name)
+            && word.node == "material"
+            && items
+                .get(i + 1)
+                .is_some_and(|n| matches!(n, Item::Block(_)) || n.as_name().is_some())
+        {
+            errors.push(
+                Error::new(
+                    word.span,
+                    format!(
+                        "`{}` takes a material without the word `material`",
+                        name.node
+                    ),
+                )
+                .label("remove this word")
+                .help(format!(
+                    "write `{0} {{ colour … }}` or `{0} NAME`",
+                    name.node
+                )),
+            );
+            i += 1;
+            values.push(items[i].clone());
+            i += 1;
+        }
         while values.len() < spec.arity
             && i < items.len()
             && (!starts_param(&items[i]) || (values.is_empty() && material_name(&items[i])))

@@ -2,7 +2,9 @@
 
 use super::super::{Colour, Transfer};
 use crate::geometry::DVec2;
-use std::path::Path;
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex, Weak};
 
 /// How (u, v) is turned into image coordinates: first `swap` exchanges u
 /// and v, then `flip_u`/`flip_v` mirror them (u → 1 − u), then
@@ -34,8 +36,9 @@ impl Default for UvMapping {
 pub struct ImageTexture {
     pub width: u32,
     pub height: u32,
-    /// Row 0 at the top, as in the file.
-    pixels: Vec<[f32; 3]>,
+    /// Row 0 at the top, as in the file. Shared by every texture made from
+    /// the same file (see [`DECODED`]).
+    pixels: Arc<[[f32; 3]]>,
     pub mapping: UvMapping,
 }
 
@@ -46,12 +49,30 @@ pub enum ImageError {
     Io(String),
     #[error("cannot decode the image: {0}")]
     Decode(String),
-    #[error("the image is {width}x{height}; textures are limited to {limit}x{limit} pixels")]
-    TooLarge { width: u32, height: u32, limit: u32 },
+    #[error(
+        "the image is {width}x{height}; textures are limited to {side}x{side} pixels and {} megapixels in all",
+        MAX_TEXTURE_PIXELS / 1_000_000
+    )]
+    TooLarge { width: u32, height: u32, side: u32 },
 }
 
-/// Larger images are refused before their pixels are allocated.
+/// Larger images are refused from their header, before their pixels are
+/// allocated.
 pub const MAX_TEXTURE_SIDE: u32 = 16384;
+/// The pixel budget of one texture (an 8192×4096 picture fits): decoded
+/// and converted to linear colour it takes 15 bytes a pixel, about 500 MB.
+pub const MAX_TEXTURE_PIXELS: u64 = 1 << 25;
+
+/// What a decoded file is known by: its real path, size and modification
+/// time (an edited file is decoded afresh), and the transfer curve used.
+type DecodedKey = (PathBuf, u64, Option<std::time::SystemTime>, String);
+
+/// Files already decoded, so that a picture used by many materials is
+/// decoded once. Weak: the pixels live only as long as a scene uses them.
+static DECODED: Mutex<Option<HashMap<DecodedKey, Decoded>>> = Mutex::new(None);
+
+/// Width, height and the shared pixels of a decoded file.
+type Decoded = (u32, u32, Weak<[[f32; 3]]>);
 
 impl ImageTexture {
     /// Reads a PNG or JPEG (any format the `image` crate was built with),
@@ -62,6 +83,34 @@ impl ImageTexture {
         if !meta.is_file() {
             return Err(ImageError::Io("it is not a regular file".into()));
         }
+        let key: DecodedKey = (
+            path.canonicalize().unwrap_or_else(|_| path.to_owned()),
+            meta.len(),
+            meta.modified().ok(),
+            format!("{transfer:?}"),
+        );
+        let mut cache = DECODED.lock().unwrap_or_else(|e| e.into_inner());
+        let cache = cache.get_or_insert_with(HashMap::new);
+        cache.retain(|_, (_, _, w)| w.strong_count() > 0);
+        if let Some((width, height, pixels)) = cache
+            .get(&key)
+            .and_then(|(w, h, p)| Some((*w, *h, p.upgrade()?)))
+        {
+            return Ok(ImageTexture {
+                width,
+                height,
+                pixels,
+                mapping,
+            });
+        }
+        let img = Self::decode(path, transfer, mapping)?;
+        cache.insert(key, (img.width, img.height, Arc::downgrade(&img.pixels)));
+        Ok(img)
+    }
+
+    /// Reads the header, refuses what is over the pixel budget, then
+    /// decodes.
+    fn decode(path: &Path, transfer: Transfer, mapping: UvMapping) -> Result<Self, ImageError> {
         let reader = image::ImageReader::open(path)
             .map_err(|e| ImageError::Io(e.to_string()))?
             .with_guessed_format()
@@ -74,11 +123,14 @@ impl ImageTexture {
                 "the image is {width}x{height}: it has no pixels"
             )));
         }
-        if width > MAX_TEXTURE_SIDE || height > MAX_TEXTURE_SIDE {
+        if width > MAX_TEXTURE_SIDE
+            || height > MAX_TEXTURE_SIDE
+            || width as u64 * height as u64 > MAX_TEXTURE_PIXELS
+        {
             return Err(ImageError::TooLarge {
                 width,
                 height,
-                limit: MAX_TEXTURE_SIDE,
+                side: MAX_TEXTURE_SIDE,
             });
         }
         let mut reader = image::ImageReader::open(path)
@@ -88,6 +140,9 @@ impl ImageTexture {
         let mut limits = image::Limits::default();
         limits.max_image_width = Some(MAX_TEXTURE_SIDE);
         limits.max_image_height = Some(MAX_TEXTURE_SIDE);
+        // Room for the largest image at 16 bits a channel with alpha; a
+        // decoder that wants more than that is refused, not obeyed.
+        limits.max_alloc = Some(MAX_TEXTURE_PIXELS * 8 + (64 << 20));
         reader.limits(limits);
         // The decoders are third-party code fed user bytes, and one has
         // panicked on a mangled palette (a fuzz find): a panic would take the
@@ -213,6 +268,55 @@ mod tests {
         two_by_two().save(&good).unwrap();
         let t = ImageTexture::load(&good, Transfer::Linear, UvMapping::default()).unwrap();
         assert_eq!((t.width, t.height), (2, 2));
+    }
+
+    /// Issue 17: a small file whose header declares 16384×16384 (268
+    /// megapixels) or 12000×12000 was decoded (gigabytes, tens of seconds).
+    /// The header is read first and the pixel budget refuses it at once.
+    #[test]
+    fn a_header_over_the_pixel_budget_is_refused_before_decoding() {
+        let dir = tempfile::tempdir().unwrap();
+        for (w, h) in [(16384, 16384), (12000, 12000), (16384, 2049)] {
+            let p = dir.path().join(format!("{w}x{h}.ppm"));
+            std::fs::write(&p, format!("P6\n{w} {h}\n255\n\0\0\0")).unwrap();
+            let start = std::time::Instant::now();
+            let r = ImageTexture::load(&p, Transfer::Srgb, UvMapping::default());
+            assert!(
+                matches!(r, Err(ImageError::TooLarge { width, height, .. }) if (width, height) == (w, h)),
+                "{r:?}"
+            );
+            assert!(start.elapsed().as_secs_f64() < 1.0);
+        }
+        // Within the budget, a truncated file is a decode error, not a
+        // budget one: the check is the product, not the side.
+        let p = dir.path().join("ok.ppm");
+        std::fs::write(&p, "P6\n8192 4096\n255\n\0\0\0").unwrap();
+        let r = ImageTexture::load(&p, Transfer::Srgb, UvMapping::default());
+        assert!(matches!(r, Err(ImageError::Decode(_))), "{r:?}");
+    }
+
+    /// Issue 17: one file used by many materials is decoded once; a changed
+    /// transfer curve or an edited file is decoded afresh.
+    #[test]
+    fn each_image_file_is_decoded_once() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("once.png");
+        two_by_two().save(&p).unwrap();
+        let a = ImageTexture::load(&p, Transfer::Srgb, UvMapping::default()).unwrap();
+        let mapping = UvMapping {
+            flip_u: true,
+            ..UvMapping::default()
+        };
+        let b = ImageTexture::load(&p, Transfer::Srgb, mapping.clone()).unwrap();
+        assert!(Arc::ptr_eq(&a.pixels, &b.pixels));
+        assert_eq!(b.mapping, mapping);
+        let c = ImageTexture::load(&p, Transfer::Linear, UvMapping::default()).unwrap();
+        assert!(!Arc::ptr_eq(&a.pixels, &c.pixels));
+        // Once no texture holds the pixels, they are freed, and a later
+        // load decodes again.
+        let weak = Arc::downgrade(&a.pixels);
+        drop((a, b));
+        assert!(weak.upgrade().is_none());
     }
 
     /// Fuzz find: a PPM of width 0 decoded, then sampling divided by zero.
