@@ -103,9 +103,8 @@ impl<'p> Builder<'p> {
                 camera: Camera::default(),
                 settings,
                 ambient: Colour::ZERO,
-                lights: Vec::new(),
                 materials: vec![Material::default()],
-                objects: Vec::new(),
+                ..Scene::default()
             },
             materials: HashMap::new(),
             all_materials,
@@ -607,10 +606,7 @@ impl<'p> Builder<'p> {
             None => Some(1.0),
         };
         if let (Some(position), Some(colour), Some(k)) = (position, colour, intensity) {
-            self.scene.lights.push(Light {
-                position,
-                colour: colour * k,
-            });
+            self.scene.lights.push(Light::point(position, colour * k));
         }
         self.finish("light", p);
     }
