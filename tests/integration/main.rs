@@ -7,6 +7,7 @@ mod examples;
 mod golden;
 mod hostile;
 mod lang;
+mod looks;
 mod mesh;
 mod render;
 mod support;

@@ -22,7 +22,11 @@ pub const MAX_LIGHT_SAMPLES: u32 = 32;
 fn moved(surface: &LightSurface, xf: &Transform) -> Option<LightSurface> {
     Some(match surface {
         LightSurface::Sphere { centre, radius } => {
-            let (a, b, c) = (xf.vector(DVec3::X), xf.vector(DVec3::Y), xf.vector(DVec3::Z));
+            let (a, b, c) = (
+                xf.vector(DVec3::X),
+                xf.vector(DVec3::Y),
+                xf.vector(DVec3::Z),
+            );
             let s = a.length();
             let tol = 1e-9 * s;
             let similar = (b.length() - s).abs() <= tol
@@ -63,7 +67,11 @@ fn moved(surface: &LightSurface, xf: &Transform) -> Option<LightSurface> {
             let n = xf.normal(edge_u.cross(*edge_v));
             // Keep edge_u × edge_v along the shape's own normal (a mirror
             // transform would turn it over).
-            let (eu, ev) = if eu.cross(ev).dot(n) < 0.0 { (ev, eu) } else { (eu, ev) };
+            let (eu, ev) = if eu.cross(ev).dot(n) < 0.0 {
+                (ev, eu)
+            } else {
+                (eu, ev)
+            };
             LightSurface::Rectangle {
                 corner: xf.point(*corner),
                 edge_u: eu,
@@ -104,9 +112,12 @@ impl Builder<'_> {
         };
         let Some(surface) = moved(&local, xf) else {
             self.err(
-                Error::new(kw.span, "an emissive sphere must stay a sphere to light the scene")
-                    .label("scaled unevenly or sheared")
-                    .help("scale it by one number, or use a disc or rectangle as the light"),
+                Error::new(
+                    kw.span,
+                    "an emissive sphere must stay a sphere to light the scene",
+                )
+                .label("scaled unevenly or sheared")
+                .help("scale it by one number, or use a disc or rectangle as the light"),
             );
             return;
         };

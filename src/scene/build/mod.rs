@@ -496,9 +496,9 @@ impl<'p> Builder<'p> {
     fn lens(&mut self, p: &mut Params, kw: &Spanned<String>) -> Option<super::ThinLens> {
         let aperture = p.take("aperture");
         let focus = p.take("focus");
-        let a = aperture.as_ref().and_then(|q| {
-            self.checked(&q.values[0], |x| x >= 0.0 && x.is_finite(), "0 or more")
-        });
+        let a = aperture
+            .as_ref()
+            .and_then(|q| self.checked(&q.values[0], |x| x >= 0.0 && x.is_finite(), "0 or more"));
         let f = focus.as_ref().and_then(|q| {
             self.checked(&q.values[0], |x| x > 0.0 && x.is_finite(), "greater than 0")
         });
@@ -683,7 +683,11 @@ impl<'p> Builder<'p> {
             }
         }
         if let Some(q) = p.take("min") {
-            match self.checked(&q.values[0], |x| (0.0..=1.0).contains(&x), "between 0 and 1") {
+            match self.checked(
+                &q.values[0],
+                |x| (0.0..=1.0).contains(&x),
+                "between 0 and 1",
+            ) {
                 Some(m) => o.min = m,
                 None => ok = false,
             }
@@ -778,9 +782,12 @@ impl<'p> Builder<'p> {
         if let Some(d) = direction {
             if let Some(other) = look_at.as_ref().or(angle.as_ref()).or(falloff.as_ref()) {
                 self.err(
-                    Error::new(other.name.span, format!("`{}` has no effect on a parallel light", other.name.node))
-                        .label("not used")
-                        .note(d.name.span, "`direction` makes this a parallel light"),
+                    Error::new(
+                        other.name.span,
+                        format!("`{}` has no effect on a parallel light", other.name.node),
+                    )
+                    .label("not used")
+                    .note(d.name.span, "`direction` makes this a parallel light"),
                 );
             }
             let (v, s) = self.vec3(&d.values[0])?;
@@ -793,9 +800,12 @@ impl<'p> Builder<'p> {
         let Some(target) = look_at else {
             if let Some(q) = angle.as_ref().or(falloff.as_ref()) {
                 self.err(
-                    Error::new(q.name.span, format!("`{}` needs a `look_at` (a spot light)", q.name.node))
-                        .label("no `look_at` in this light")
-                        .note(kw.span, "light here"),
+                    Error::new(
+                        q.name.span,
+                        format!("`{}` needs a `look_at` (a spot light)", q.name.node),
+                    )
+                    .label("no `look_at` in this light")
+                    .note(kw.span, "light here"),
                 );
                 return None;
             }
@@ -804,7 +814,11 @@ impl<'p> Builder<'p> {
         };
         let (at, s) = self.vec3(&target.values[0])?;
         let angle_deg = match &angle {
-            Some(q) => self.checked(&q.values[0], |a| a > 0.0 && a < 90.0, "an angle between 0 and 90 degrees")?,
+            Some(q) => self.checked(
+                &q.values[0],
+                |a| a > 0.0 && a < 90.0,
+                "an angle between 0 and 90 degrees",
+            )?,
             None => 30.0,
         };
         let falloff_deg = match &falloff {
@@ -979,11 +993,7 @@ impl<'p> Builder<'p> {
         let mut ok = true;
         for (name, slot) in [("ior", &mut d.ior), ("outside_ior", &mut d.outside_ior)] {
             if let Some(q) = p.take(name) {
-                match self.checked(
-                    &q.values[0],
-                    |x| x > 0.0 && x.is_finite(),
-                    "greater than 0",
-                ) {
+                match self.checked(&q.values[0], |x| x > 0.0 && x.is_finite(), "greater than 0") {
                     Some(v) => *slot = v,
                     None => ok = false,
                 }

@@ -154,7 +154,11 @@ pub const LIGHT: Schema = Schema {
         spec("position", 1, "a 3-vector"),
         spec("colour", 1, "a colour"),
         spec("intensity", 1, "a number"),
-        spec("direction", 1, "a 3-vector (the way a parallel light shines)"),
+        spec(
+            "direction",
+            1,
+            "a 3-vector (the way a parallel light shines)",
+        ),
         spec("look_at", 1, "a 3-vector (where a spot light points)"),
         spec("angle", 1, "the spot's full-light half-angle in degrees"),
         spec("falloff", 1, "the spot's outer half-angle in degrees"),
@@ -205,7 +209,11 @@ pub const ENVIRONMENT: Schema = Schema {
     own: &[
         spec("colour", 1, "a colour"),
         spec("intensity", 1, "a number, 0 or more"),
-        spec("samples", 1, "a whole number of directions per shading point"),
+        spec(
+            "samples",
+            1,
+            "a whole number of directions per shading point",
+        ),
     ],
     object: false,
     children: false,
@@ -213,7 +221,11 @@ pub const ENVIRONMENT: Schema = Schema {
 
 pub const OCCLUSION: Schema = Schema {
     own: &[
-        spec("samples", 1, "a whole number of directions per shading point"),
+        spec(
+            "samples",
+            1,
+            "a whole number of directions per shading point",
+        ),
         spec("min", 1, "a number from 0 to 1"),
         spec("distance", 1, "a distance, greater than 0"),
     ],
