@@ -51,7 +51,7 @@ pub fn render(scene: &Scene, world: &World, opts: &RenderOptions) -> Option<(Fil
     // the cell centres (the 2017 rule, the same picture on every run).
     let sampler = PixelSampler {
         kind: scene.settings.sampler,
-        n: scene.settings.samples.max(1),
+        n: scene.settings.samples.clamp(1, crate::scene::MAX_SAMPLES),
         seed: scene.settings.seed,
     };
     let weight = 1.0 / sampler.count() as f64;

@@ -7,7 +7,7 @@
 //! pixels. Dimensions 0–1 place the sample in the pixel, 2–3 on the lens,
 //! and a path draws the rest in order from [`SampleStream`].
 
-use crate::scene::SamplerKind;
+use crate::scene::{MAX_SAMPLES, SamplerKind};
 
 /// The first dimension a path's own random numbers use.
 const PATH_DIMS: u32 = 4;
@@ -36,19 +36,29 @@ pub fn uniform(p: Pixel, sample: u32, dim: u32, seed: u64) -> f64 {
     (h >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
 }
 
-/// A random permutation of 0..n (n ≤ 64) for one key, by Fisher–Yates on
-/// hashed numbers.
-fn permutation(n: usize, key: u64) -> [u8; 64] {
-    let mut p = [0u8; 64];
-    for (i, v) in p.iter_mut().enumerate().take(n) {
-        *v = i as u8;
+/// Two uniform numbers in [0, 1) from one hash (32 bits each: plenty for
+/// a position inside a pixel or on a lens, and half the hashing).
+fn uniform_pair(p: Pixel, sample: u32, dim: u32, seed: u64) -> (f64, f64) {
+    let h = mix(
+        mix(mix(seed ^ 0x9e37_79b9_7f4a_7c15) ^ ((p.x as u64) << 32 | p.y as u64))
+            ^ ((sample as u64) << 32 | dim as u64),
+    );
+    const SCALE: f64 = 1.0 / (1u64 << 32) as f64;
+    ((h >> 32) as f64 * SCALE, (h & 0xffff_ffff) as f64 * SCALE)
+}
+
+/// Fills `p` with a random permutation of 0..p.len() for one key, by
+/// Fisher–Yates on hashed numbers.
+fn permutation(p: &mut [u16], key: u64) {
+    for (i, v) in p.iter_mut().enumerate() {
+        *v = i as u16;
     }
-    for i in (1..n).rev() {
+    for i in (1..p.len()).rev() {
         let r = mix(key ^ (i as u64).wrapping_mul(0x2545_f491_4f6c_dd1d));
-        let j = (r % (i as u64 + 1)) as usize;
+        // An index in 0..=i from the high 32 bits, without a division.
+        let j = (((r >> 32) * (i as u64 + 1)) >> 32) as usize;
         p.swap(i, j);
     }
-    p
 }
 
 /// The n × n points of one pixel (or one lens) in [0, 1)².
@@ -70,9 +80,9 @@ impl PixelSampler {
     /// in row order (the 2017 grid).
     pub fn pattern(&self, pixel: Pixel, dim: u32, out: &mut Vec<(f64, f64)>) {
         out.clear();
-        let n = self.n;
+        let n = self.n.clamp(1, MAX_SAMPLES);
         let nf = n as f64;
-        let r = |s: u32, d: u32| uniform(pixel, s, dim + d, self.seed);
+        let r = |s: u32| uniform_pair(pixel, s, dim, self.seed);
         match self.kind {
             SamplerKind::Regular => {
                 for j in 0..n {
@@ -81,12 +91,12 @@ impl PixelSampler {
                     }
                 }
             }
-            SamplerKind::Random => out.extend((0..n * n).map(|s| (r(s, 0), r(s, 1)))),
+            SamplerKind::Random => out.extend((0..n * n).map(r)),
             SamplerKind::Jittered => {
                 for j in 0..n {
                     for i in 0..n {
-                        let s = j * n + i;
-                        out.push(((i as f64 + r(s, 0)) / nf, (j as f64 + r(s, 1)) / nf));
+                        let (a, b) = r(j * n + i);
+                        out.push(((i as f64 + a) / nf, (j as f64 + b) / nf));
                     }
                 }
             }
@@ -97,15 +107,22 @@ impl PixelSampler {
                 // n² × n² grid holds exactly one point.
                 let key =
                     mix(self.seed ^ mix(((pixel.x as u64) << 32) | pixel.y as u64) ^ dim as u64);
-                let order = permutation((n * n) as usize, key ^ 0x5bd1_e995);
-                out.resize((n * n) as usize, (0.0, 0.0));
+                let nu = n as usize;
+                let mut order = [0u16; (MAX_SAMPLES * MAX_SAMPLES) as usize];
+                permutation(&mut order[..nu * nu], key ^ 0x5bd1_e995);
+                out.resize(nu * nu, (0.0, 0.0));
+                let mut taus = [[0u16; MAX_SAMPLES as usize]; MAX_SAMPLES as usize];
+                for (j, tau) in taus.iter_mut().enumerate().take(nu) {
+                    permutation(&mut tau[..nu], key ^ mix(0x1_0000 + j as u64));
+                }
+                let mut sigma = [0u16; MAX_SAMPLES as usize];
                 for i in 0..n {
-                    let sigma = permutation(n as usize, key ^ mix(1 + i as u64));
-                    for j in 0..n {
-                        let tau = permutation(n as usize, key ^ mix(0x1_0000 + j as u64));
-                        let s = j * n + i;
-                        let x = (i as f64 + (sigma[j as usize] as f64 + r(s, 0)) / nf) / nf;
-                        let y = (j as f64 + (tau[i as usize] as f64 + r(s, 1)) / nf) / nf;
+                    permutation(&mut sigma[..nu], key ^ mix(1 + i as u64));
+                    for (j, tau) in taus.iter().enumerate().take(nu) {
+                        let s = j as u32 * n + i;
+                        let (a, b) = r(s);
+                        let x = (i as f64 + (sigma[j] as f64 + a) / nf) / nf;
+                        let y = (j as f64 + (tau[i as usize] as f64 + b) / nf) / nf;
                         // Shuffled, so that sample k's pixel and lens points
                         // are not paired by grid position.
                         out[order[s as usize] as usize] = (x, y);
@@ -229,7 +246,12 @@ mod tests {
 
     #[test]
     fn multijittered_has_one_point_per_fine_row_and_column() {
-        let n = 4;
+        for n in [1, 4, MAX_SAMPLES] {
+            fine_rows_and_columns(n);
+        }
+    }
+
+    fn fine_rows_and_columns(n: u32) {
         let p = points(SamplerKind::MultiJittered, n, 7);
         let fine = (n * n) as f64;
         let mut cols: Vec<u32> = p.iter().map(|&(x, _)| (x * fine) as u32).collect();

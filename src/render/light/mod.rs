@@ -25,6 +25,7 @@ pub struct LightSample {
 
 /// The sample of a light without area as seen from `from` (the point the
 /// shadow ray will start at), or `None` when it sends nothing there.
+#[inline]
 pub fn sample(light: &Light, from: DVec3) -> Option<LightSample> {
     match &light.kind {
         LightKind::Point => Some(point::sample(light.position, light.colour, from)),

@@ -10,6 +10,7 @@ use crate::geometry::DVec3;
 use crate::scene::Colour;
 
 /// The light at `position` as seen from `from`.
+#[inline]
 pub fn sample(position: DVec3, colour: Colour, from: DVec3) -> LightSample {
     let to_light = position - from;
     let dist = to_light.length();

@@ -12,18 +12,21 @@
 use crate::scene::{Colour, Material};
 
 /// The ambient light a surface takes: k_a · L_ambient (times occlusion).
+#[inline]
 pub fn ambient(m: &Material, ambient: Colour) -> Colour {
     ambient * m.ambient
 }
 
 /// One light's diffuse share before the colour: E · (n·l) · k_d, for
 /// n·l > 0 (the caller has culled the rest).
+#[inline]
 pub fn diffuse(m: &Material, e: Colour, cos: f64) -> Colour {
     e * (cos * m.diffuse)
 }
 
 /// Whether the material reflects any light diffusely or ambiently (glass
 /// and lamps do not, so their lights need not be sampled).
+#[inline]
 pub fn reflects(m: &Material) -> bool {
     m.diffuse > 0.0 || m.ambient > 0.0
 }

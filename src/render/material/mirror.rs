@@ -12,11 +12,13 @@ use crate::geometry::DVec3;
 use crate::scene::Colour;
 
 /// The mirror direction of `d` about the unit normal `n`.
+#[inline]
 pub fn reflect(d: DVec3, n: DVec3) -> DVec3 {
     d - 2.0 * d.dot(n) * n
 }
 
 /// The 2017 mix of the rest of the shading with the reflected colour.
+#[inline]
 pub fn mix(rest: Colour, reflected: Colour, r: f64) -> Colour {
     (1.0 - r) * rest + r * reflected
 }
