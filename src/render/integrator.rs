@@ -80,7 +80,7 @@ impl<'a> Integrator<'a> {
             path.counts.reflected += 1;
         }
         let Some((mut hit, object)) = self.world.nearest(ray, 0.0, f64::INFINITY) else {
-            return (self.background, f64::INFINITY);
+            return (self.miss(ray.dir), f64::INFINITY);
         };
         let material = &self.scene.materials[hit.material as usize];
         if material.texture.reads_uv() {
@@ -101,6 +101,14 @@ impl<'a> Integrator<'a> {
         };
         let c = self.shade(material, &hit, &at, depth, path);
         (c, hit.t)
+    }
+
+    /// What a ray that hits nothing sees: the sky, or the background.
+    fn miss(&self, dir: DVec3) -> Colour {
+        match &self.scene.environment {
+            Some(env) if env.visible && env.image.is_some() => env.radiance(dir),
+            _ => self.background,
+        }
     }
 
     /// Every part of `m` at one shading point.
@@ -213,12 +221,12 @@ impl<'a> Integrator<'a> {
         if let Some(env) = &self.scene.environment
             && m.diffuse > 0.0
         {
-            let f = environment::escaping(at.n, env.samples, &mut path.stream, 0.0, |dir| {
+            let sky = environment::gather(env, at.n, &mut path.stream, |dir| {
                 path.counts.shadow += 1;
                 self.world
                     .occludes(&Ray::new(at.lifted, dir), 0.0, f64::INFINITY)
             });
-            light += env.colour * (f * m.diffuse);
+            light += sky * m.diffuse;
         }
         let local = m.texture.colour_at(hit) * light;
         if m.phong.is_some() {

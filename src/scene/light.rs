@@ -83,12 +83,37 @@ pub struct AreaLight {
     pub two_sided: bool,
 }
 
-/// Light from every direction: colour × intensity (the sky).
+/// Light from every direction: colour × intensity, or an image (an HDR or
+/// EXR sky in latitude-longitude) times colour × intensity.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Environment {
     pub colour: Colour,
     /// Cosine-distributed directions traced per shading point.
     pub samples: u32,
+    pub image: Option<std::sync::Arc<super::texture::ImageTexture>>,
+    /// Whether camera rays that miss see it (no `background` was set).
+    pub visible: bool,
+}
+
+impl Environment {
+    /// The radiance arriving from unit direction `d` (travelling along −d).
+    /// The image is a latitude-longitude map: u = 1/2 + atan2(d.x, −d.z)/2π
+    /// (the image's centre straight ahead along −z), v = 1/2 + asin(d.y)/π
+    /// (its top row straight up).
+    pub fn radiance(&self, d: DVec3) -> Colour {
+        match &self.image {
+            None => self.colour,
+            Some(img) => {
+                let u = 0.5 + d.x.atan2(-d.z) / std::f64::consts::TAU;
+                let v = 0.5 + d.y.clamp(-1.0, 1.0).asin() / std::f64::consts::PI;
+                // Wrap around in longitude only: near the poles stay within
+                // the first and last rows' centres.
+                let half = 0.5 / img.height as f64;
+                let v = v.clamp(half, 1.0 - half);
+                self.colour * img.sample(glam::DVec2::new(u, v))
+            }
+        }
+    }
 }
 
 /// Ambient occlusion: the ambient term times 1 where a cosine-distributed

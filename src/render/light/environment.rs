@@ -17,6 +17,26 @@
 
 use crate::geometry::DVec3;
 use crate::render::sampler::{SampleStream, about, cos_power_lobe};
+use crate::scene::{Colour, Environment};
+
+/// The environment's light at a point with facing normal `n`, before the
+/// surface's colour: the mean over `env.samples` cosine-distributed
+/// directions of the sky's radiance where the direction escapes.
+pub fn gather(
+    env: &Environment,
+    n: DVec3,
+    stream: &mut SampleStream,
+    mut blocked: impl FnMut(DVec3) -> bool,
+) -> Colour {
+    let mut sum = Colour::ZERO;
+    for _ in 0..env.samples {
+        let dir = about(n, cos_power_lobe(stream.next2(), 1.0));
+        if !blocked(dir) {
+            sum += env.radiance(dir);
+        }
+    }
+    sum / env.samples as f64
+}
 
 /// The mean over `samples` cosine-distributed directions about `n` of
 /// `hit_value` (when `blocked(dir)`) or 1.

@@ -50,10 +50,12 @@ pub fn build_with_warnings(program: &Program) -> Result<(Scene, Vec<String>), Pr
     let transfer = find_transfer(&program.items);
     let mut b = Builder::new(program, transfer);
     b.top_level(&program.items);
-    if let Some(env) = &b.scene.environment
-        && !b.background_given
-    {
-        b.scene.settings.background = env.colour;
+    if let Some(env) = &mut b.scene.environment {
+        if b.background_given {
+            env.visible = false;
+        } else {
+            b.scene.settings.background = env.colour;
+        }
     }
     if b.errors.is_empty() {
         Ok((b.scene, b.warnings))
@@ -724,12 +726,49 @@ impl<'p> Builder<'p> {
             Some(q) => self.integer(&q.values[0], 1, 1024),
             None => Some(1),
         };
+        let image = match p.take("image") {
+            None => Some(None),
+            Some(q) => match &q.values[0] {
+                Item::Str { text, content, .. } => self.sky_image(text, *content).map(Some),
+                other => {
+                    self.err(
+                        Error::new(
+                            other.span(),
+                            format!("expected a file name, found {}", other.describe()),
+                        )
+                        .label("not a string")
+                        .help("e.g. `environment { image \"sky.hdr\" }`"),
+                    );
+                    None
+                }
+            },
+        };
         self.finish("environment", p);
-        if let (Some(c), Some(k), Some(samples)) = (colour, intensity, samples) {
+        if let (Some(c), Some(k), Some(samples), Some(image)) = (colour, intensity, samples, image)
+        {
             self.scene.environment = Some(super::Environment {
                 colour: c * k,
                 samples,
+                image,
+                visible: true,
             });
+        }
+    }
+
+    /// An environment's sky image: HDR and EXR are linear radiance; 8-bit
+    /// images are decoded with the scene's curve.
+    fn sky_image(&mut self, file: &str, span: Span) -> Option<Arc<super::texture::ImageTexture>> {
+        let path = self.program.sources.dir_of(span.file).join(file);
+        match super::texture::ImageTexture::load(&path, self.env.transfer, Default::default()) {
+            Ok(img) => Some(Arc::new(img)),
+            Err(e) => {
+                self.err(
+                    Error::new(span, format!("cannot use the image `{file}`: {e}"))
+                        .label(format!("looked for {}", path.display()))
+                        .help("an image path is relative to the scene file that names it"),
+                );
+                None
+            }
         }
     }
 

@@ -214,6 +214,11 @@ pub const ENVIRONMENT: Schema = Schema {
             1,
             "a whole number of directions per shading point",
         ),
+        spec(
+            "image",
+            1,
+            "a file name (an HDR or EXR sky, latitude-longitude)",
+        ),
     ],
     object: false,
     children: false,
