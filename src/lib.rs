@@ -2,8 +2,8 @@
 //! language.
 //!
 //! ```text
-//!  scene.rt ──parse──▶ lang::Program ──build──▶ scene::Scene ──accelerate──▶ accel::World
-//!     (lang/)              (scene/)                                (accel/)
+//!  scene.rt ──parse──▶ lang::Program ──evaluate, build──▶ scene::Scene ──accelerate──▶ accel::World
+//!     (lang/)              (eval/, scene/)                                 (accel/)
 //!                    ──render──▶ render::Film ──write──▶ out.png
 //!                      (render/)                 (output.rs)
 //! ```
@@ -12,6 +12,7 @@
 
 pub mod accel;
 pub mod cli;
+pub mod eval;
 pub mod geometry;
 pub mod guard;
 pub mod implicit;
@@ -36,7 +37,8 @@ pub fn run(args: &Args) -> Result<()> {
     let clock = Instant::now();
     let program = lang::load(&args.scene)?;
     let parsed = clock.elapsed();
-    let (mut scene, warnings) = scene::build_with_warnings(&program)?;
+    let options = args.eval_options().map_err(|e| miette::miette!("{e}"))?;
+    let (mut scene, warnings) = scene::build_with(&program, &options)?;
     if !args.quiet {
         for w in &warnings {
             eprintln!("warning: {w}");

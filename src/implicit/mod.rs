@@ -97,6 +97,19 @@ impl Equation {
         )
     }
 
+    /// Σ |c|·|x|^i·|y|^j·|z|^k over the polynomial's terms: the size of the
+    /// sums that evaluating it at (or near) `p` adds, which scales the
+    /// rounding error of the value (Higham's running error bound).
+    pub fn magnitude(&self, p: DVec3) -> f64 {
+        let a = p.abs();
+        self.terms
+            .iter()
+            .map(|(e, c)| {
+                c.abs() * a.x.powi(e[0] as i32) * a.y.powi(e[1] as i32) * a.z.powi(e[2] as i32)
+            })
+            .sum()
+    }
+
     /// Whether a point of the polynomial's zero set lies on the branch the
     /// written equation describes (always true without roots).
     pub fn on_written_branch(&self, p: DVec3) -> bool {

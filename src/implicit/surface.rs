@@ -17,6 +17,7 @@
 use super::Equation;
 use super::ray_poly::CAP;
 use super::solve::{no_root_in_unit, roots_in};
+use crate::geometry::rounding::gamma;
 use crate::geometry::{Aabb, DVec2, DVec3, Ray};
 use crate::scene::MaterialId;
 use crate::shapes::{Hit, Shape};
@@ -129,14 +130,50 @@ impl ImplicitSurface {
     }
 
     fn hit_at(&self, ray: &Ray, t: f64, p: DVec3) -> Hit {
+        let normal = self.normal_at(p, ray.dir);
         Hit {
             t,
-            normal: self.normal_at(p, ray.dir),
+            normal,
             uv: DVec2::ZERO,
             local: p,
+            point: p,
+            p_error: self.root_error(ray, t, p),
+            geo_normal: normal,
             material: self.material,
             path: 0,
         }
+    }
+
+    /// A bound on the error of a root's point `ray.at(t)`. The root finder
+    /// stops within 1e-13 of the parameter it searched (s ∈ [−1, 1] over
+    /// the chord through the box, so 1e-13 of the box's diagonal in space;
+    /// on an unbounded surface, 1e-13·(1 + |t|) in t), plus the rounding of
+    /// `ray.at(t)`. But the root is a root of the polynomial along the ray,
+    /// whose coefficients carry rounding of about γ₄ₙ (n the degree) times
+    /// the magnitude of the terms they sum ([`Equation::magnitude`] over
+    /// the box): within that of zero the sign is noise, so a root may lie
+    /// anywhere in a shell of thickness noise/|∇f| around the surface, and
+    /// so may a secondary ray's. Where the gradient nearly vanishes (the
+    /// heart's seam) that shell is thick; it is capped at 1e-6 of the
+    /// box's diagonal (of 1 + |p| unbounded).
+    fn root_error(&self, ray: &Ray, t: f64, p: DVec3) -> DVec3 {
+        let (along, cap, reach) = if self.bounds.is_finite() {
+            let diag = self.bounds.extent().length();
+            let corner = self.bounds.min.abs().max(self.bounds.max.abs());
+            (4e-13 * diag, 1e-6 * diag, corner)
+        } else {
+            let size = 1.0 + p.abs().max_element();
+            (
+                4e-13 * (1.0 + t.abs()) * ray.dir.length(),
+                1e-6 * size,
+                DVec3::splat(2.0 * size),
+            )
+        };
+        let noise = gamma(4 * self.equation.degree().max(1)) * self.equation.magnitude(reach);
+        let slope = self.equation.gradient(p).length();
+        let shell = if slope > 0.0 { noise / slope } else { cap };
+        let rounding = gamma(16) * (ray.origin.abs() + (t * ray.dir).abs());
+        DVec3::splat(along + shell.min(cap)) + rounding
     }
 
     /// Whether `p` lies inside the solid: where the written equation is
@@ -229,7 +266,7 @@ impl Shape for ImplicitSurface {
             if after != before {
                 let mut h = self.hit_at(ray, t, p);
                 if (h.normal.dot(ray.dir) < 0.0) != after {
-                    h.normal = -h.normal;
+                    h = h.flipped();
                 }
                 out.push(h);
             }

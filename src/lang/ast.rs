@@ -68,10 +68,13 @@ pub enum Item {
     /// A name, number, vector, colour or any expression.
     Value(Expr),
     /// `"text"`; `span` covers the quotes, `content` only the text.
+    /// `constants` are the numbers in scope where it was written (set by
+    /// the evaluator, for the names in `implicit` equations).
     Str {
         text: String,
         span: Span,
         content: Span,
+        constants: Option<std::sync::Arc<Vec<(String, f64)>>>,
     },
     /// `include "path"` before the loader splices the file in; `string`
     /// covers the quoted path, `content` its text.
@@ -85,6 +88,74 @@ pub enum Item {
     List(Spanned<Vec<Expr>>),
     /// `{ item* }`
     Block(Block),
+    /// `let NAME = sphere { … }`: a value written as items (an object, a
+    /// material, a pattern).
+    LetItems {
+        name: Spanned<String>,
+        items: Vec<Item>,
+        span: Span,
+    },
+    /// `for NAME in SOURCE { … }`
+    For {
+        var: Spanned<String>,
+        source: Box<ForSource>,
+        body: Block,
+        span: Span,
+    },
+    /// `if COND { … } else …`; `otherwise` is a block or another `If`.
+    If {
+        cond: Expr,
+        then: Block,
+        otherwise: Option<Box<Item>>,
+        span: Span,
+    },
+    /// `fn NAME(…) …`
+    Fn(std::sync::Arc<FnDef>),
+    /// Items made by a loop iteration or a function call (put here by the
+    /// evaluator, never by the parser): `trace` says where they came
+    /// from, innermost first, for messages about them.
+    Traced {
+        trace: std::sync::Arc<crate::eval::Trace>,
+        items: Vec<Item>,
+    },
+}
+
+/// What a `for` runs over (boxed in [`Item::For`]).
+#[allow(clippy::large_enum_variant)]
+#[derive(Clone, Debug, PartialEq)]
+pub enum ForSource {
+    /// `A..B`, `A..=B`, optionally `step S`.
+    Range {
+        from: Expr,
+        to: Expr,
+        inclusive: bool,
+        step: Option<Expr>,
+    },
+    /// A list (or anything else, which is a kind error).
+    Each(Expr),
+}
+
+/// A function declaration.
+#[derive(Debug, PartialEq)]
+pub struct FnDef {
+    pub name: Spanned<String>,
+    pub params: Vec<FnParam>,
+    pub body: FnBody,
+    pub span: Span,
+}
+
+#[derive(Debug, PartialEq)]
+pub struct FnParam {
+    pub name: Spanned<String>,
+    pub default: Option<Expr>,
+}
+
+#[derive(Debug, PartialEq)]
+pub enum FnBody {
+    /// `= expression`
+    Expr(Expr),
+    /// `{ objects }`
+    Items(Block),
 }
 
 impl Item {
@@ -96,18 +167,37 @@ impl Item {
             Item::Include { span, .. } => *span,
             Item::List(l) => l.span,
             Item::Block(b) => b.span,
+            Item::LetItems { span, .. } | Item::For { span, .. } | Item::If { span, .. } => *span,
+            Item::Fn(f) => f.span,
+            Item::Traced { items, .. } => match (items.first(), items.last()) {
+                (Some(a), Some(b)) => a.span().to(b.span()),
+                _ => Span::new(FileId(0), 0, 0),
+            },
         }
     }
 
-    /// The name if this item is a bare name (`sphere`, `radius`, `x`).
+    /// The name if this item is a bare name (`sphere`, `radius`, `x`),
+    /// bound to a value or not.
     pub fn as_name(&self) -> Option<Spanned<&str>> {
         match self {
             Item::Value(Expr {
-                kind: ExprKind::Name(n),
+                kind: ExprKind::Name(n) | ExprKind::Bound(n, _),
                 span,
-            }) => Some(Spanned::new(n.as_str(), *span)),
+            }) if !n.is_empty() => Some(Spanned::new(n.as_str(), *span)),
             _ => None,
         }
+    }
+
+    /// Whether this is a name bound by `let`, a loop or a parameter (a
+    /// value, never a parameter or keyword of the builder's).
+    pub fn is_bound_name(&self) -> bool {
+        matches!(
+            self,
+            Item::Value(Expr {
+                kind: ExprKind::Bound(..),
+                ..
+            })
+        )
     }
 
     /// A few words for "found …" in messages.
@@ -119,6 +209,11 @@ impl Item {
             Item::Include { .. } => "an `include`".into(),
             Item::List(_) => "a list `[…]`".into(),
             Item::Block(_) => "a block `{…}`".into(),
+            Item::LetItems { .. } => "a `let`".into(),
+            Item::For { .. } => "a `for` loop".into(),
+            Item::If { .. } => "an `if`".into(),
+            Item::Fn(_) => "a function declaration".into(),
+            Item::Traced { .. } => "generated items".into(),
         }
     }
 }
@@ -137,6 +232,15 @@ pub enum BinOp {
     Mul,
     Div,
     Pow,
+    Rem,
+    Eq,
+    Ne,
+    Lt,
+    Le,
+    Gt,
+    Ge,
+    And,
+    Or,
 }
 
 impl fmt::Display for BinOp {
@@ -147,6 +251,15 @@ impl fmt::Display for BinOp {
             BinOp::Mul => "*",
             BinOp::Div => "/",
             BinOp::Pow => "^",
+            BinOp::Rem => "%",
+            BinOp::Eq => "==",
+            BinOp::Ne => "!=",
+            BinOp::Lt => "<",
+            BinOp::Le => "<=",
+            BinOp::Gt => ">",
+            BinOp::Ge => ">=",
+            BinOp::And => "and",
+            BinOp::Or => "or",
         })
     }
 }
@@ -168,8 +281,26 @@ pub enum ExprKind {
     Call {
         name: Spanned<String>,
         args: Vec<Expr>,
+        /// `name: value` arguments, after the positional ones.
+        named: Vec<(Spanned<String>, Expr)>,
     },
     Neg(Box<Expr>),
+    /// `not a`
+    Not(Box<Expr>),
+    /// `[a, b, …]` as a value.
+    List(Vec<Expr>),
+    /// `xs[i]`
+    Index {
+        base: Box<Expr>,
+        index: Box<Expr>,
+    },
+    /// A value the evaluator has already worked out (a bound name,
+    /// substituted where it was used; never made by the parser).
+    Value(crate::eval::expr::Value),
+    /// A bound name the evaluator replaced by its value: still a name
+    /// for the builder's reading of parameters (`rotate x 90`).
+    /// `None` when its definition failed (already reported).
+    Bound(String, Option<crate::eval::expr::Value>),
     Binary {
         op: BinOp,
         lhs: Box<Expr>,
@@ -185,7 +316,11 @@ impl Expr {
             ExprKind::Hex(_) => "a colour".into(),
             ExprKind::Vector(v) => format!("a {}-vector", v.len()),
             ExprKind::Call { name, .. } => format!("`{}(…)`", name.node),
-            ExprKind::Neg(_) | ExprKind::Binary { .. } => "an expression".into(),
+            ExprKind::Neg(_) | ExprKind::Binary { .. } | ExprKind::Not(_) => "an expression".into(),
+            ExprKind::List(_) => "a list".into(),
+            ExprKind::Index { .. } => "an indexed value".into(),
+            ExprKind::Value(v) | ExprKind::Bound(_, Some(v)) => v.kind(),
+            ExprKind::Bound(n, None) => format!("`{n}`"),
         }
     }
 

@@ -31,6 +31,9 @@ pub const STATEMENT_KEYWORDS: &[&str] = &[
     "material",
     "let",
     "include",
+    "for",
+    "if",
+    "fn",
     "sphere",
     "plane",
     "box",
@@ -53,9 +56,27 @@ static PRATT: LazyLock<PrattParser<Rule>> = LazyLock::new(|| {
     // `-2^2` is −4 and `2^-1` works.
     PrattParser::new()
         .op(Op::infix(Rule::add, Assoc::Left) | Op::infix(Rule::sub, Assoc::Left))
-        .op(Op::infix(Rule::mul, Assoc::Left) | Op::infix(Rule::div, Assoc::Left))
+        .op(Op::infix(Rule::mul, Assoc::Left)
+            | Op::infix(Rule::div, Assoc::Left)
+            | Op::infix(Rule::rem, Assoc::Left))
         .op(Op::prefix(Rule::neg))
         .op(Op::infix(Rule::pow, Assoc::Right))
+        .op(Op::postfix(Rule::index))
+});
+
+/// Conditions: `or` below `and` below `not` below the comparisons, each
+/// side of which is an arithmetic expression (parsed with [`PRATT`]).
+static CPRATT: LazyLock<PrattParser<Rule>> = LazyLock::new(|| {
+    PrattParser::new()
+        .op(Op::infix(Rule::or_op, Assoc::Left))
+        .op(Op::infix(Rule::and_op, Assoc::Left))
+        .op(Op::prefix(Rule::not_op))
+        .op(Op::infix(Rule::eq, Assoc::Left)
+            | Op::infix(Rule::ne, Assoc::Left)
+            | Op::infix(Rule::lt, Assoc::Left)
+            | Op::infix(Rule::le, Assoc::Left)
+            | Op::infix(Rule::gt, Assoc::Left)
+            | Op::infix(Rule::ge, Assoc::Left))
 });
 
 /// Parses one file's text into its items (includes not yet resolved).
@@ -131,11 +152,111 @@ fn item(p: Pair<Rule>, at: Loc) -> Result<Item, Error> {
             let _kw = inner.next();
             let name = inner.next().expect("grammar: let has a name");
             let value = inner.next().expect("grammar: let has a value");
-            Item::Let {
-                name: Spanned::new(name.as_str().to_string(), span_of(&name, at)),
-                value: expr(value, at)?,
+            let name = Spanned::new(name.as_str().to_string(), span_of(&name, at));
+            if value.as_rule() == Rule::fragment {
+                let mut items = Vec::new();
+                for c in value.into_inner() {
+                    items.push(match c.as_rule() {
+                        Rule::ident => Item::Value(Expr {
+                            kind: ExprKind::Name(c.as_str().to_string()),
+                            span: span_of(&c, at),
+                        }),
+                        _ => item(c, at)?,
+                    });
+                }
+                Item::LetItems { name, items, span }
+            } else {
+                Item::Let {
+                    name,
+                    value: expr(value, at)?,
+                    span,
+                }
+            }
+        }
+        Rule::for_stmt => {
+            let mut inner = p.into_inner();
+            let _kw = inner.next();
+            let var = inner.next().expect("grammar: for has a name");
+            let _in = inner.next();
+            let src = inner.next().expect("grammar: for has a source");
+            let body = inner.next().expect("grammar: for has a body");
+            let source = if src.as_rule() == Rule::range {
+                let mut r = src.into_inner();
+                let from = expr(r.next().expect("grammar: range start"), at)?;
+                let inclusive = r.next().is_some_and(|o| o.as_rule() == Rule::range_incl);
+                let to = expr(r.next().expect("grammar: range end"), at)?;
+                let _step = r.next();
+                let step = match r.next() {
+                    Some(e) => Some(expr(e, at)?),
+                    None => None,
+                };
+                ForSource::Range {
+                    from,
+                    to,
+                    inclusive,
+                    step,
+                }
+            } else {
+                ForSource::Each(expr(src, at)?)
+            };
+            Item::For {
+                var: Spanned::new(var.as_str().to_string(), span_of(&var, at)),
+                source: Box::new(source),
+                body: block(body, at)?,
                 span,
             }
+        }
+        Rule::if_stmt => {
+            let mut inner = p.into_inner();
+            let _kw = inner.next();
+            let cond = expr(inner.next().expect("grammar: if has a condition"), at)?;
+            let then = block(inner.next().expect("grammar: if has a block"), at)?;
+            let _else = inner.next();
+            let otherwise = match inner.next() {
+                Some(e) => Some(Box::new(item(e, at)?)),
+                None => None,
+            };
+            Item::If {
+                cond,
+                then,
+                otherwise,
+                span,
+            }
+        }
+        Rule::fn_stmt => {
+            let mut inner = p.into_inner();
+            let _kw = inner.next();
+            let name = inner.next().expect("grammar: fn has a name");
+            let name = Spanned::new(name.as_str().to_string(), span_of(&name, at));
+            let mut params = Vec::new();
+            let mut body = None;
+            for c in inner {
+                match c.as_rule() {
+                    Rule::fn_param => {
+                        let mut q = c.into_inner();
+                        let n = q.next().expect("grammar: a parameter has a name");
+                        let default = match q.next() {
+                            Some(d) => Some(expr(d, at)?),
+                            None => None,
+                        };
+                        params.push(FnParam {
+                            name: Spanned::new(n.as_str().to_string(), span_of(&n, at)),
+                            default,
+                        });
+                    }
+                    Rule::fn_expr => {
+                        let e = c.into_inner().next().expect("grammar: `=` has a value");
+                        body = Some(FnBody::Expr(expr(e, at)?));
+                    }
+                    _ => body = Some(FnBody::Items(block(c, at)?)),
+                }
+            }
+            Item::Fn(std::sync::Arc::new(FnDef {
+                name,
+                params,
+                body: body.expect("grammar: fn has a body"),
+                span,
+            }))
         }
         Rule::include_stmt => {
             let s = p
@@ -146,6 +267,7 @@ fn item(p: Pair<Rule>, at: Loc) -> Result<Item, Error> {
                 text,
                 span: sspan,
                 content,
+                ..
             } = string(s, at)
             else {
                 unreachable!()
@@ -157,13 +279,7 @@ fn item(p: Pair<Rule>, at: Loc) -> Result<Item, Error> {
                 string: sspan,
             }
         }
-        Rule::block => {
-            let mut items = Vec::new();
-            for c in p.into_inner() {
-                items.push(item(c, at)?);
-            }
-            Item::Block(Block { items, span })
-        }
+        Rule::block => Item::Block(block(p, at)?),
         Rule::list => {
             let mut v = Vec::new();
             for c in p.into_inner() {
@@ -177,6 +293,15 @@ fn item(p: Pair<Rule>, at: Loc) -> Result<Item, Error> {
     })
 }
 
+fn block(p: Pair<Rule>, at: Loc) -> Result<Block, Error> {
+    let span = span_of(&p, at);
+    let mut items = Vec::new();
+    for c in p.into_inner() {
+        items.push(item(c, at)?);
+    }
+    Ok(Block { items, span })
+}
+
 fn string(p: Pair<Rule>, at: Loc) -> Item {
     let span = span_of(&p, at);
     let inner = p.into_inner().next().expect("grammar: string has content");
@@ -184,6 +309,7 @@ fn string(p: Pair<Rule>, at: Loc) -> Item {
         text: inner.as_str().to_string(),
         span,
         content: span_of(&inner, at),
+        constants: None,
     }
 }
 
@@ -194,13 +320,23 @@ fn expr(p: Pair<Rule>, at: Loc) -> Result<Expr, Error> {
 }
 
 fn expr_depth(p: Pair<Rule>, at: Loc) -> Built {
+    if p.as_rule() == Rule::cexpr {
+        return cexpr_depth(p, at);
+    }
     // Each operator adds a level to the tree (a flat `1+1+…` is a chain as
     // long as the sum): cap the count before the Pratt parser runs, at the
     // operator that breaks it, so a 10 MB one-line sum costs one scan.
     let mut operators = p.clone().into_inner().filter(|c| {
         matches!(
             c.as_rule(),
-            Rule::neg | Rule::add | Rule::sub | Rule::mul | Rule::div | Rule::pow
+            Rule::neg
+                | Rule::add
+                | Rule::sub
+                | Rule::mul
+                | Rule::div
+                | Rule::pow
+                | Rule::rem
+                | Rule::index
         )
     });
     if let Some(op) = operators.nth(MAX_EXPR_DEPTH) {
@@ -233,7 +369,72 @@ fn expr_depth(p: Pair<Rule>, at: Loc) -> Built {
                 Rule::mul => BinOp::Mul,
                 Rule::div => BinOp::Div,
                 Rule::pow => BinOp::Pow,
+                Rule::rem => BinOp::Rem,
                 r => unreachable!("grammar: unexpected operator {r:?}"),
+            };
+            let span = lhs.span.to(rhs.span);
+            node(
+                Expr {
+                    kind: ExprKind::Binary {
+                        op,
+                        lhs: Box::new(lhs),
+                        rhs: Box::new(rhs),
+                    },
+                    span,
+                },
+                dl.max(dr),
+            )
+        })
+        .map_postfix(|base, op| {
+            let (base, db) = base?;
+            let whole = span_of(&op, at);
+            let inner = op
+                .into_inner()
+                .next()
+                .expect("grammar: index holds a value");
+            let (index, di) = expr_depth(inner, at)?;
+            let span = base.span.to(whole);
+            node(
+                Expr {
+                    kind: ExprKind::Index {
+                        base: Box::new(base),
+                        index: Box::new(index),
+                    },
+                    span,
+                },
+                db.max(di),
+            )
+        })
+        .parse(p.into_inner())
+}
+
+fn cexpr_depth(p: Pair<Rule>, at: Loc) -> Built {
+    CPRATT
+        .map_primary(|p| expr_depth(p, at))
+        .map_prefix(|op, rhs| {
+            let (rhs, d) = rhs?;
+            let span = span_of(&op, at).to(rhs.span);
+            node(
+                Expr {
+                    kind: ExprKind::Not(Box::new(rhs)),
+                    span,
+                },
+                d,
+            )
+        })
+        .map_infix(|lhs, op, rhs| {
+            let (lhs, dl) = lhs?;
+            let (rhs, dr) = rhs?;
+            let op = match op.as_rule() {
+                Rule::or_op => BinOp::Or,
+                Rule::and_op => BinOp::And,
+                Rule::eq => BinOp::Eq,
+                Rule::ne => BinOp::Ne,
+                Rule::lt => BinOp::Lt,
+                Rule::le => BinOp::Le,
+                Rule::gt => BinOp::Gt,
+                Rule::ge => BinOp::Ge,
+                r => unreachable!("grammar: unexpected condition operator {r:?}"),
             };
             let span = lhs.span.to(rhs.span);
             node(
@@ -347,21 +548,57 @@ fn primary(p: Pair<Rule>, at: Loc) -> Built {
             let callee = inner.next().expect("grammar: call has a name");
             let name = Spanned::new(callee.as_str().to_string(), span_of(&callee, at));
             let mut args = Vec::new();
+            let mut named = Vec::new();
             let mut depth = 0;
             for c in inner {
-                let (e, d) = expr_depth(c, at)?;
+                let mut parts = c.into_inner();
+                let first = parts.next().expect("grammar: an argument has a value");
+                let (label, value) = if first.as_rule() == Rule::arg_name {
+                    let n = Spanned::new(first.as_str().to_string(), span_of(&first, at));
+                    (Some(n), parts.next().expect("grammar: `name:` has a value"))
+                } else {
+                    (None, first)
+                };
+                let (e, d) = expr_depth(value, at)?;
                 depth = depth.max(d);
-                args.push(e);
+                match label {
+                    Some(n) => named.push((n, e)),
+                    None if !named.is_empty() => {
+                        return Err(Error::new(
+                            e.span,
+                            "a positional argument cannot follow a named one",
+                        )
+                        .label("positional")
+                        .help("put the positional arguments first: `f(1, 2, r: 0.5)`"));
+                    }
+                    None => args.push(e),
+                }
             }
             node(
                 Expr {
-                    kind: ExprKind::Call { name, args },
+                    kind: ExprKind::Call { name, args, named },
                     span,
                 },
                 depth,
             )
         }
-        Rule::expr => expr_depth(p, at),
+        Rule::list => {
+            let mut v = Vec::new();
+            let mut depth = 0;
+            for c in p.into_inner() {
+                let (e, d) = expr_depth(c, at)?;
+                depth = depth.max(d);
+                v.push(e);
+            }
+            node(
+                Expr {
+                    kind: ExprKind::List(v),
+                    span,
+                },
+                depth,
+            )
+        }
+        Rule::expr | Rule::cexpr => expr_depth(p, at),
         r => unreachable!("grammar: unexpected primary {r:?}"),
     }
 }
@@ -383,6 +620,8 @@ pub fn describe_rule(r: Rule) -> Option<&'static str> {
         | Rule::paren
         | Rule::call
         | Rule::callee
+        | Rule::cexpr
+        | Rule::arg
         | Rule::neg => "a value",
         Rule::ident => "a name",
         Rule::block => "a block `{ … }`",
@@ -390,6 +629,9 @@ pub fn describe_rule(r: Rule) -> Option<&'static str> {
         Rule::string | Rule::string_inner => "a string",
         Rule::let_stmt | Rule::kw_let => "`let`",
         Rule::include_stmt | Rule::kw_include => "`include`",
+        Rule::kw_in => "`in`",
+        Rule::range | Rule::range_excl | Rule::range_incl => "a range `a..b`",
+        Rule::fn_param => "a parameter name",
         Rule::EOI => "end of file",
         Rule::exponent => "an exponent",
         // Operators could always continue a value: naming them is noise.
@@ -431,6 +673,12 @@ fn syntax_error(e: pest::error::Error<Rule>, text: &str, at: Loc) -> Error {
                     | Rule::list
                     | Rule::string
                     | Rule::expr
+                    | Rule::for_stmt
+                    | Rule::if_stmt
+                    | Rule::fn_stmt
+                    | Rule::kw_for
+                    | Rule::kw_if
+                    | Rule::kw_fn
             );
             if item_start && item_rule {
                 continue;
@@ -452,6 +700,10 @@ fn syntax_error(e: pest::error::Error<Rule>, text: &str, at: Loc) -> Error {
     }
     if let ErrorVariant::CustomError { message } = &e.variant {
         push(message.clone());
+    }
+    if expected.iter().any(|e| e == "a value") {
+        // A list is a value too.
+        expected.retain(|e| e != "a list `[ … ]`");
     }
     if expected.iter().any(|e| e == "a value") && !expected.iter().any(|e| e == "a block") {
         expected.retain(|e| e != "a name");
@@ -563,7 +815,24 @@ pub fn check_brackets(text: &str, file: FileId) -> Vec<Error> {
                     }
                 }
             }
+            // `<=` and `>=` compare; a `<` or `>` may be a comparison too,
+            // so a `>` closes only a `<` on top, and an unmatched `<` is
+            // dropped when a block opens or a bracket around it closes
+            // (a vector holds neither).
+            b'<' | b'>' if b.get(i + 1) == Some(&b'=') => {
+                i += 2;
+                continue;
+            }
+            b'>' if stack.last().is_some_and(|o| o.ch == '<') => {
+                stack.pop();
+            }
+            b'>' => {}
             b'{' | b'(' | b'[' | b'<' => {
+                if c == b'{' {
+                    while stack.last().is_some_and(|o| o.ch == '<') {
+                        stack.pop();
+                    }
+                }
                 stack.push(Open {
                     ch: c as char,
                     at: i,
@@ -579,12 +848,12 @@ pub fn check_brackets(text: &str, file: FileId) -> Vec<Error> {
                     return errors;
                 }
             }
-            b'}' | b')' | b']' | b'>' => {
+            b'}' | b')' | b']' => {
                 let c = c as char;
                 match stack.iter().rposition(|o| closer(o.ch) == c) {
                     Some(k) => {
                         // Anything opened after the match and not closed.
-                        for o in stack.drain(k + 1..).rev() {
+                        for o in stack.drain(k + 1..).rev().filter(|o| o.ch != '<') {
                             errors.push(
                                 Error::new(
                                     Span::new(file, o.at, o.at + 1),
@@ -613,9 +882,22 @@ pub fn check_brackets(text: &str, file: FileId) -> Vec<Error> {
         i += 1;
     }
     for o in stack {
+        if o.ch == '<' && looks_like_comparison(b, o.at) {
+            continue;
+        }
         errors.push(unclosed_at_eof(text, file, &o));
     }
     errors
+}
+
+/// Whether the `<` at `at` reads as "less than" rather than a vector: a
+/// value before it and a space after (`x < 1`, not `= <1, 2, 3`).
+fn looks_like_comparison(b: &[u8], at: usize) -> bool {
+    let before = b[..at].iter().rev().find(|c| !c.is_ascii_whitespace());
+    let value_before =
+        before.is_some_and(|c| c.is_ascii_alphanumeric() || matches!(c, b')' | b']' | b'_' | b'.'));
+    let space_after = b.get(at + 1).is_some_and(|c| c.is_ascii_whitespace());
+    value_before && space_after
 }
 
 fn unclosed_at_eof(text: &str, file: FileId, o: &Open) -> Error {
@@ -724,13 +1006,18 @@ mod tests {
             ExprKind::Vector(v) => {
                 format!("<{}>", v.iter().map(show).collect::<Vec<_>>().join(","))
             }
-            ExprKind::Call { name, args } => format!(
+            ExprKind::Call { name, args, .. } => format!(
                 "{}({})",
                 name.node,
                 args.iter().map(show).collect::<Vec<_>>().join(",")
             ),
             ExprKind::Neg(e) => format!("(-{})", show(e)),
             ExprKind::Binary { op, lhs, rhs } => format!("({} {op} {})", show(lhs), show(rhs)),
+            ExprKind::Not(e) => format!("(not {})", show(e)),
+            ExprKind::List(v) => format!("[{}]", v.iter().map(show).collect::<Vec<_>>().join(",")),
+            ExprKind::Index { base, index } => format!("{}[{}]", show(base), show(index)),
+            ExprKind::Value(v) => format!("{v:?}"),
+            ExprKind::Bound(n, _) => n.clone(),
         }
     }
 
@@ -847,6 +1134,21 @@ mod tests {
                 .message
                 .contains("more than 256 operators")
         );
+    }
+
+    #[test]
+    fn comparisons_are_not_open_vectors() {
+        for src in [
+            "let a = 1 < 2",
+            "let a = 1 < <1, 2, 3>",
+            "let a = (1 < 2) and 3 > 2",
+            "if 1 < 2 { }",
+            "let b = 1 <= 2",
+        ] {
+            assert!(parse(src, F).is_ok(), "{src}");
+        }
+        let e = parse("let B = <1, 2, 3", F).unwrap_err();
+        assert_eq!(e[0].message, "`<` is never closed");
     }
 
     #[test]

@@ -21,7 +21,8 @@ use super::material::{dielectric, emissive, glossy, matte, mirror, phong};
 use super::sampler::SampleStream;
 use super::stats::RayCounts;
 use crate::accel::World;
-use crate::geometry::{DVec3, Ray, surface_epsilon};
+use crate::geometry::rounding::SHADOW_EPSILON;
+use crate::geometry::{DVec3, Ray, offset_ray_origin, surface_epsilon, valid_reflection_normal};
 use crate::scene::{Colour, Material, Scene};
 
 /// A shadow ray through glass stops being followed after this many
@@ -53,17 +54,17 @@ impl<'a> Integrator<'a> {
         }
     }
 
-    /// THE place a secondary ray leaves a surface: its origin is `p` moved
-    /// off the surface along `n_side`, the normal on the side the ray
-    /// leaves into (the facing normal for reflections and shadows, its
-    /// negative for refraction).
-    pub fn spawn_origin(&self, p: DVec3, n_side: DVec3) -> DVec3 {
-        p + n_side * surface_epsilon(p)
+    /// THE place a secondary ray leaves a surface: the hit point moved off
+    /// the surface by its error bound, to the side of the geometric surface
+    /// that `dir` goes to (`offset_ray_origin`, docs/architecture.md,
+    /// "Rounding error and ray offsets"); refracted rays so start on the far side.
+    fn spawn_origin(at: &Shading, dir: DVec3) -> DVec3 {
+        offset_ray_origin(at.p, at.p_err, at.ng, dir)
     }
 
-    /// A secondary ray from `p` along unit `dir`, leaving on `n_side`.
-    pub fn spawn(&self, p: DVec3, n_side: DVec3, dir: DVec3) -> Ray {
-        Ray::new(self.spawn_origin(p, n_side), dir)
+    /// A secondary ray from the shading point along unit `dir`.
+    fn spawn(at: &Shading, dir: DVec3) -> Ray {
+        Ray::new(Self::spawn_origin(at, dir), dir)
     }
 
     /// Colour seen along `ray` (unit direction), after `depth` bounces.
@@ -86,17 +87,25 @@ impl<'a> Integrator<'a> {
         if material.texture.reads_uv() {
             hit.uv = object.uv(&hit);
         }
-        let p = ray.at(hit.t);
-        let mut n = hit.normal.normalize_or_zero();
-        let front = n.dot(ray.dir) <= 0.0;
+        // The geometric normal decides the side; the shading normal is kept
+        // in its hemisphere.
+        let mut ng = hit.geo_normal.normalize_or_zero();
+        let front = ng.dot(ray.dir) <= 0.0;
         if !front {
+            ng = -ng;
+        }
+        let mut n = hit.normal.normalize_or(ng);
+        if n.dot(ng) < 0.0 {
             n = -n;
         }
+        let (p, p_err) = (hit.point, hit.p_error);
         let at = Shading {
             p,
+            p_err,
+            ng,
             n,
             d: ray.dir,
-            lifted: self.spawn_origin(p, n),
+            lifted: offset_ray_origin(p, p_err, ng, ng),
             front,
         };
         let c = self.shade(material, &hit, &at, depth, path);
@@ -132,9 +141,9 @@ impl<'a> Integrator<'a> {
         if m.mirror != Colour::ZERO && deeper {
             let dir = match m.glossy {
                 Some(e) => glossy::direction(at.d, at.n, e, path.stream.next2()),
-                None => mirror::reflect(at.d, at.n),
+                None => at.mirror_dir(),
             };
-            out += m.mirror * self.trace(&Ray::new(at.lifted, dir), depth + 1, path);
+            out += m.mirror * self.trace(&Self::spawn(at, dir), depth + 1, path);
         }
         if let Some(d) = &m.refract
             && deeper
@@ -146,8 +155,7 @@ impl<'a> Integrator<'a> {
             return out;
         }
         let reflected = if deeper {
-            let dir = mirror::reflect(at.d, at.n);
-            self.trace(&Ray::new(at.lifted, dir), depth + 1, path)
+            self.trace(&Self::spawn(at, at.mirror_dir()), depth + 1, path)
         } else {
             Colour::ZERO
         };
@@ -180,7 +188,10 @@ impl<'a> Integrator<'a> {
             if cos <= 0.0 {
                 return;
             }
-            let t = self.transmittance(&Ray::new(at.lifted, s.dir), s.dist, path.counts);
+            // An occluder counts up to the light less a sliver of the way
+            // (the light may lie on a surface: an area light's sample).
+            let reach = s.dist * (1.0 - SHADOW_EPSILON);
+            let t = self.transmittance(&Ray::new(at.lifted, s.dir), reach, path.counts);
             if t == Colour::ZERO {
                 return;
             }
@@ -247,11 +258,11 @@ impl<'a> Integrator<'a> {
         let side = dielectric::Interface::new(d, at.front);
         let split = dielectric::split(at.d, at.n, side.eta);
         let reflect_dir = mirror::reflect(at.d, at.n);
-        let (lr, sr) = self.trace_far(&Ray::new(at.lifted, reflect_dir), depth + 1, path);
+        let (lr, sr) = self.trace_far(&Self::spawn(at, reflect_dir), depth + 1, path);
         let mut out = split.kr * dielectric::absorb(side.filter_here, sr) * lr;
         if let Some(t) = split.refracted {
             // The refracted ray leaves on the far side.
-            let ray = self.spawn(at.p, -at.n, t);
+            let ray = Self::spawn(at, t);
             let (lt, st) = self.trace_far(&ray, depth + 1, path);
             let kt = (1.0 - split.kr) / (side.eta * side.eta);
             out += kt * dielectric::absorb(side.filter_there, st) * lt;
@@ -301,13 +312,24 @@ impl<'a> Integrator<'a> {
 /// One shading point.
 struct Shading {
     p: DVec3,
+    /// The bound on `p`'s rounding error, per coordinate.
+    p_err: DVec3,
+    /// Unit geometric normal facing the ray.
+    ng: DVec3,
     /// Unit normal facing the ray.
     n: DVec3,
     /// The incoming ray's unit direction.
     d: DVec3,
-    /// p moved off the surface on the ray's side (where shadow and mirror
-    /// rays start).
+    /// p moved off the surface on the ray's side (where shadow rays start).
     lifted: DVec3,
     /// Whether the ray met the outward side.
     front: bool,
+}
+
+impl Shading {
+    /// The mirror direction, by the shading normal tilted (Cycles' rule)
+    /// so that it never goes below the geometric surface.
+    fn mirror_dir(&self) -> DVec3 {
+        mirror::reflect(self.d, valid_reflection_normal(self.ng, -self.d, self.n))
+    }
 }

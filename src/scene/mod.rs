@@ -9,7 +9,7 @@ mod light;
 mod material;
 pub mod texture;
 
-pub use build::{build, build_with_warnings};
+pub use build::{build, build_with, build_with_warnings, is_object};
 pub use camera::{Camera, PixelRays, Projection, ThinLens};
 pub use colour::{Colour, Transfer};
 pub use light::{AreaLight, Environment, Light, LightKind, LightSurface, Occlusion};

@@ -126,6 +126,7 @@ mod tests {
             local: DVec3::ZERO,
             material: 0,
             path: 0,
+            ..Hit::default()
         }
     }
 

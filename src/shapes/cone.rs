@@ -11,7 +11,8 @@
 //! [0, 1), v = (y − c.y)/h + 0.5; each cap like a disc in its x-z plane,
 //! u = (x − c.x + r)/2r, v = (z − c.z + r)/2r with r that cap's radius.
 
-use super::{Crossing, Hit, Shape, solve_quadratic};
+use super::{Crossing, Hit, Shape, ray_point_error, solve_quadratic};
+use crate::geometry::rounding::gamma;
 use crate::geometry::{Aabb, DVec2, DVec3, Ray};
 use crate::scene::MaterialId;
 use std::f64::consts::PI;
@@ -139,8 +140,15 @@ impl Frustum {
         if !self.valid {
             return 0;
         }
-        let o = ray.origin - self.centre;
+        // Re-centred: the line's origin is moved to its closest point to the
+        // centre (t = t_c), so that the quadratic's coefficients are of the
+        // cone's own size even when the ray starts far away (the raw ones
+        // lose the radius from 1e8). The roots are shifted back by t_c.
         let d = ray.dir;
+        let dd = d.length_squared();
+        let f = ray.origin - self.centre;
+        let t_c = if dd > 0.0 { -f.dot(d) / dd } else { 0.0 };
+        let o = f + t_c * d;
         let (y0, y1) = (self.y0 - self.centre.y, self.y1 - self.centre.y);
         let slack = RIM * self.height;
         // Radius where the ray's origin height meets the (extended) surface.
@@ -149,22 +157,24 @@ impl Frustum {
         let a = d.x * d.x + d.z * d.z - k * k * d.y * d.y;
         let b = 2.0 * (o.x * d.x + o.z * d.z - k * r_o * d.y);
         let c = o.x * o.x + o.z * o.z - r_o * r_o;
-        let mut side = |t: f64| {
-            let y = o.y + t * d.y;
+        let mut side = |s: f64| {
+            let y = o.y + s * d.y;
+            let t = t_c + s;
             if t.is_finite() && y >= y0 - slack && y <= y1 + slack {
                 out[n] = (t, Surface::Side);
                 n += 1;
             }
         };
         if a != 0.0 {
-            if let Some((t0, t1)) = solve_quadratic(a, b, c) {
-                side(t0);
-                side(t1);
+            if let Some((s0, s1)) = solve_quadratic(a, b, c) {
+                side(s0);
+                side(s1);
             }
         } else if b != 0.0 {
             // Parallel to the axis (cylinder) or to a generator (cone): one root.
             side(-c / b);
         }
+        let o = ray.origin - self.centre;
         if self.caps.is_some() && d.y != 0.0 {
             for (y, r, s) in [(y1, self.r1, Surface::Top), (y0, self.r0, Surface::Bottom)] {
                 let t = (y - o.y) / d.y;
@@ -248,13 +258,53 @@ impl Frustum {
                 (n, cap_uv(q, r), m)
             }
         };
+        let (point, p_error) = self.reproject(ray, t, s);
         Hit {
             t,
             normal,
             uv,
             local: p,
+            point,
+            p_error,
+            geo_normal: normal,
             material,
             path: 0,
+        }
+    }
+
+    /// The hit point put back on its surface, with its error bound. A cap's
+    /// point is snapped to the cap's plane (exact in y). A side point keeps
+    /// its height and has its distance from the axis set to r(y), so the
+    /// error of `t` (large for a grazing ray) no longer matters: what is
+    /// left is the rounding of r(y) and of the rescaling, a few γ of the
+    /// magnitudes involved.
+    fn reproject(&self, ray: &Ray, t: f64, s: Surface) -> (DVec3, DVec3) {
+        let p = ray.at(t);
+        match s {
+            Surface::Top | Surface::Bottom => {
+                let y = if s == Surface::Top { self.y1 } else { self.y0 };
+                let mut err = ray_point_error(ray, t);
+                err.y = 0.0;
+                (DVec3::new(p.x, y, p.z), err)
+            }
+            Surface::Side => {
+                let q = p - self.centre;
+                let rho = q.x.hypot(q.z);
+                let r = self.r0 + self.slope * (p.y - self.y0);
+                if rho == 0.0 || !r.is_finite() || r < 0.0 {
+                    return (
+                        p,
+                        ray_point_error(ray, t) + DVec3::splat(gamma(8) * self.r0.max(self.r1)),
+                    );
+                }
+                let k = r / rho;
+                let q = DVec3::new(q.x * k, q.y, q.z * k);
+                let point = self.centre + q;
+                // r(y): γ₄ of its terms; the scale and the centre's sum a few more.
+                let r_err = gamma(4) * (self.r0.abs() + (self.slope * (p.y - self.y0)).abs());
+                let radial = gamma(6) * q.abs() + DVec3::new(r_err, 0.0, r_err);
+                (point, radial + gamma(1) * point.abs())
+            }
         }
     }
 
@@ -334,6 +384,25 @@ mod tests {
 
     fn hit(s: &dyn Shape, o: DVec3, d: DVec3) -> Option<Hit> {
         s.intersect(&Ray::new(o, d), 1e-9, f64::INFINITY)
+    }
+
+    #[test]
+    fn seen_from_1e8_covers_the_analytic_area() {
+        // Side on, a capped cone of radius 1 and height 2 is a triangle of
+        // area r·h = 2, and a cylinder a 2×2 square; the raw quadratic lost
+        // the radius from far away.
+        let cone = Cone::new(DVec3::ZERO, 1.0, 0.0, 2.0, 0, Some([0, 0]));
+        let tube = Cone::new(DVec3::ZERO, 1.0, 1.0, 2.0, 0, Some([0, 0]));
+        for eye in [1e2, 1e8, 1e12] {
+            let at = DVec3::new(0.0, 0.0, eye);
+            let a = testing::silhouette_area(&cone, at, 1.2, 300);
+            assert!((a / 2.0 - 1.0).abs() < 0.01, "cone from {eye}: {a} vs 2");
+            let a = testing::silhouette_area(&tube, at, 1.2, 300);
+            assert!(
+                (a / 4.0 - 1.0).abs() < 0.01,
+                "cylinder from {eye}: {a} vs 4"
+            );
+        }
     }
 
     #[test]

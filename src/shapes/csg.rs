@@ -397,7 +397,7 @@ impl Csg {
             if let Some(inner) = list.iter().find(|x| x.t == c.t) {
                 let mut h = child.hit_of(ray, inner);
                 if self.is_cutter(i) {
-                    h.normal = -h.normal;
+                    h = h.flipped();
                 }
                 return Hit { path: LOST, ..h };
             }
@@ -405,7 +405,10 @@ impl Csg {
         Hit {
             t: c.t,
             normal: ray.dir * c.facing.signum(),
+            geo_normal: ray.dir * c.facing.signum(),
             local: ray.at(c.t),
+            point: ray.at(c.t),
+            p_error: super::ray_point_error(ray, c.t),
             path: LOST,
             ..Hit::default()
         }
@@ -628,7 +631,7 @@ impl Shape for Csg {
         };
         let mut h = self.children[i].hit_of(ray, &inner);
         if self.is_cutter(i) {
-            h.normal = -h.normal;
+            h = h.flipped();
         }
         self.tagged(h, i as u32)
     }

@@ -10,7 +10,7 @@
 //! u = (x − min.x)/W, v = (z − min.z)/D; left/right u = (y − min.y)/H,
 //! v = (z − min.z)/D.
 
-use super::{Crossing, Hit, Shape};
+use super::{Crossing, Hit, Shape, ray_point_error};
 use crate::geometry::{Aabb, DVec2, DVec3, Ray};
 use crate::scene::MaterialId;
 
@@ -124,11 +124,23 @@ impl Cuboid {
             (_, false) => (DVec2::new(rel.y, rel.z), self.materials[4]),
             (_, true) => (DVec2::new(rel.y, rel.z), self.materials[5]),
         };
+        // Snapped onto the face's plane: exact across it, rounding along it.
+        let mut point = p;
+        let mut p_error = ray_point_error(ray, t);
+        point[face.axis] = if face.high {
+            self.max[face.axis]
+        } else {
+            self.min[face.axis]
+        };
+        p_error[face.axis] = 0.0;
         Hit {
             t,
             normal,
             uv,
             local: p,
+            point,
+            p_error,
+            geo_normal: normal,
             material,
             path: 0,
         }

@@ -6,7 +6,7 @@
 //! ```
 //! Texture space: u = (x − c.x + r)/2r, v = (y − c.y + r)/2r.
 
-use super::{Hit, Shape};
+use super::{Hit, Shape, ray_point_error};
 use crate::geometry::{Aabb, DVec2, DVec3, Ray};
 use crate::scene::MaterialId;
 
@@ -40,6 +40,10 @@ impl Disc {
             normal: DVec3::Z,
             uv: DVec2::new((q.x + r) / (2.0 * r), (q.y + r) / (2.0 * r)),
             local: p,
+            // Snapped into the disc's plane: exact in z, rounding elsewhere.
+            point: DVec3::new(p.x, p.y, self.centre.z),
+            p_error: ray_point_error(ray, t) * DVec3::new(1.0, 1.0, 0.0),
+            geo_normal: DVec3::Z,
             material: self.material,
             path: 0,
         })

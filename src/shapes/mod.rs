@@ -15,10 +15,14 @@ pub mod mesh;
 mod plane;
 pub mod ply;
 mod rectangle;
+mod shared;
 mod sphere;
 mod torus;
 mod transformed;
 mod triangle;
+
+#[cfg(test)]
+mod offset_tests;
 
 pub use cone::Cone;
 pub use csg::{Csg, CsgOp};
@@ -27,6 +31,7 @@ pub use disc::Disc;
 pub use mesh::{Mesh, MeshData};
 pub use plane::Plane;
 pub use rectangle::Rectangle;
+pub use shared::Shared;
 pub use sphere::Sphere;
 pub use torus::Torus;
 pub use transformed::Transformed;
@@ -56,11 +61,48 @@ pub struct Hit {
     /// The hit point in the shape's own space (before any transform), for
     /// solid textures that must move with the object.
     pub local: DVec3,
+    /// The hit point in the space of the hit (the world, once out of
+    /// [`Transformed`]), as the shape computed it on its surface (often
+    /// re-projected onto it, so better than `ray.at(t)`). Secondary rays
+    /// start here, moved off by [`crate::geometry::offset_ray_origin`].
+    /// A smooth mesh's point is lifted off its facet towards the incoming
+    /// ray, onto the curved surface its vertex normals describe (Hanika's
+    /// shadow-terminator fix), by at most the facet's sagitta: a ray that
+    /// leaves into the far side (refraction) should start from the facet,
+    /// `ray.at(t)`, instead (not yet needed: no shape is transparent).
+    pub point: DVec3,
+    /// A bound on `point`'s absolute error in each coordinate: the true
+    /// surface point lies within ±`p_error` of it (pbrt-v4's pError).
+    pub p_error: DVec3,
+    /// The outward normal of the surface actually intersected (a mesh's
+    /// face, not its interpolated normal), oriented as `normal` is and not
+    /// necessarily unit length. It decides which side a ray is on and where
+    /// secondary rays start; `normal` is for shading only.
+    pub geo_normal: DVec3,
     pub material: MaterialId,
     /// Which child the hit came from at each enclosing CSG operation, so
     /// that [`Shape::uv`] can ask the shape that made the hit (see
     /// [`Csg`]); 0 outside CSG.
     pub path: u64,
+}
+
+impl Hit {
+    /// The same hit seen from the other side (a CSG cutter's surface, an
+    /// inward-wound mesh): both normals reversed.
+    pub fn flipped(self) -> Hit {
+        Hit {
+            normal: -self.normal,
+            geo_normal: -self.geo_normal,
+            ..self
+        }
+    }
+}
+
+/// The error bound of `ray.at(t)` from rounding alone (t taken as exact):
+/// γ₂ of the magnitudes the sum adds. Shapes that snap or re-project the
+/// point onto their surface need only their own, smaller bound.
+pub(crate) fn ray_point_error(ray: &Ray, t: f64) -> DVec3 {
+    crate::geometry::rounding::gamma(2) * (ray.origin.abs() + (t * ray.dir).abs())
 }
 
 /// A crossing without its shading data, for constructive solid geometry,
@@ -135,6 +177,9 @@ pub trait Shape: Send + Sync + std::fmt::Debug {
         hits.get(c.key as usize).copied().unwrap_or(Hit {
             t: c.t,
             normal: ray.dir * c.facing.signum(),
+            geo_normal: ray.dir * c.facing.signum(),
+            point: ray.at(c.t),
+            p_error: ray_point_error(ray, c.t),
             ..Hit::default()
         })
     }
@@ -162,36 +207,115 @@ pub trait Shape: Send + Sync + std::fmt::Debug {
     }
 }
 
-/// Möller–Trumbore for a flat patch spanned by `e1` and `e2` from
-/// `origin`: the line's (t, u, v) with the point at origin + u·e1 + v·e2,
-/// when 0 ≤ u ≤ 1 and `accept(u, v)` (the patch's shape: a triangle or a
-/// parallelogram). `None` for a line parallel to the patch or a degenerate
-/// patch, whose determinant is zero for every line.
-pub(crate) fn planar_hit(
+/// A ray prepared for the watertight ray/triangle test of Woop, Benthin
+/// and Wald ("Watertight Ray/Triangle Intersection", JCGT 2013): the
+/// coordinates are permuted so that the ray's largest direction component
+/// is z, then sheared so that the ray runs along +z from the origin. A
+/// triangle's corners are moved the same way and the test is 2D: the
+/// signs of three edge functions. An edge shared by two triangles gives
+/// each exactly the negated value of the other's (the same products,
+/// subtracted the other way round), so no ray slips between them, and a
+/// ray through a vertex is caught by every triangle around it.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct ShearedRay {
     origin: DVec3,
-    e1: DVec3,
-    e2: DVec3,
-    ray: &Ray,
-    accept: impl Fn(f64, f64) -> bool,
-) -> Option<(f64, f64, f64)> {
-    let p = ray.dir.cross(e2);
-    let det = e1.dot(p);
-    if det == 0.0 || !det.is_finite() {
-        return None;
+    /// Which of the six permutations (kx, ky, kz): kz the dominant axis,
+    /// kx and ky in the order that keeps the winding.
+    perm: u8,
+    /// Shear d[kx]/d[kz], d[ky]/d[kz] and scale 1/d[kz].
+    sx: f64,
+    sy: f64,
+    sz: f64,
+}
+
+/// The six permutations, indexed by `ShearedRay::perm`.
+const PERMS: [[usize; 3]; 6] = [
+    [1, 2, 0],
+    [2, 1, 0],
+    [2, 0, 1],
+    [0, 2, 1],
+    [0, 1, 2],
+    [1, 0, 2],
+];
+
+impl ShearedRay {
+    pub fn new(ray: &Ray) -> ShearedRay {
+        let a = ray.dir.abs();
+        let kz = if a.x >= a.y && a.x >= a.z {
+            0
+        } else if a.y >= a.z {
+            1
+        } else {
+            2
+        };
+        // Keep the winding: a mirrored permutation would flip every sign.
+        let perm = 2 * kz + (ray.dir[kz] < 0.0) as usize;
+        let [kx, ky, _] = PERMS[perm];
+        let d = ray.dir;
+        ShearedRay {
+            origin: ray.origin,
+            perm: perm as u8,
+            sx: d[kx] / d[kz],
+            sy: d[ky] / d[kz],
+            sz: 1.0 / d[kz],
+        }
     }
-    let inv = 1.0 / det;
-    let s = ray.origin - origin;
-    let u = s.dot(p) * inv;
-    if !(0.0..=1.0).contains(&u) {
-        return None;
+
+    /// The line's crossing with triangle (v0, v1, v2), edges and corners
+    /// included, at any t: `(t, [b0, b1, b2])` with the barycentric weights
+    /// of the corners. `None` when the line misses, lies in the triangle's
+    /// plane, or the triangle has no area.
+    #[inline(always)]
+    pub fn triangle(&self, v0: DVec3, v1: DVec3, v2: DVec3) -> Option<(f64, [f64; 3])> {
+        // One branch per triangle, the same way for every triangle a ray
+        // meets; each arm reads the coordinates at fixed places.
+        match self.perm {
+            0 => self.test::<1, 2, 0>(v0, v1, v2),
+            1 => self.test::<2, 1, 0>(v0, v1, v2),
+            2 => self.test::<2, 0, 1>(v0, v1, v2),
+            3 => self.test::<0, 2, 1>(v0, v1, v2),
+            4 => self.test::<0, 1, 2>(v0, v1, v2),
+            _ => self.test::<1, 0, 2>(v0, v1, v2),
+        }
     }
-    let q = s.cross(e1);
-    let v = ray.dir.dot(q) * inv;
-    if !accept(u, v) {
-        return None;
+
+    #[inline(always)]
+    fn test<const KX: usize, const KY: usize, const KZ: usize>(
+        &self,
+        v0: DVec3,
+        v1: DVec3,
+        v2: DVec3,
+    ) -> Option<(f64, [f64; 3])> {
+        let (a, b, c) = (v0 - self.origin, v1 - self.origin, v2 - self.origin);
+        let (ax, ay) = (a[KX] - self.sx * a[KZ], a[KY] - self.sy * a[KZ]);
+        let (bx, by) = (b[KX] - self.sx * b[KZ], b[KY] - self.sy * b[KZ]);
+        let (cx, cy) = (c[KX] - self.sx * c[KZ], c[KY] - self.sy * c[KZ]);
+        // Edge functions: u the weight of v0 (edge v1-v2), v of v1, w of v2.
+        let u = cx * by - cy * bx;
+        let v = ax * cy - ay * cx;
+        let w = bx * ay - by * ax;
+        if (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0) {
+            return None;
+        }
+        let det = u + v + w;
+        if det == 0.0 || !det.is_finite() {
+            return None;
+        }
+        let t_scaled = u * (self.sz * a[KZ]) + v * (self.sz * b[KZ]) + w * (self.sz * c[KZ]);
+        let inv = 1.0 / det;
+        let t = t_scaled * inv;
+        t.is_finite().then_some((t, [u * inv, v * inv, w * inv]))
     }
-    let t = e2.dot(q) * inv;
-    t.is_finite().then_some((t, u, v))
+}
+
+/// The point b0·v0 + b1·v1 + b2·v2 of a triangle, with the bound on its
+/// error (pbrt-v4: γ₇ of the sum of the terms' magnitudes). It lies on the
+/// triangle's plane up to that bound, whatever the error of the ray's t.
+pub(crate) fn barycentric_point(v: [DVec3; 3], b: [f64; 3]) -> (DVec3, DVec3) {
+    let terms = [v[0] * b[0], v[1] * b[1], v[2] * b[2]];
+    let p = terms[0] + terms[1] + terms[2];
+    let mag = terms[0].abs() + terms[1].abs() + terms[2].abs();
+    (p, crate::geometry::rounding::gamma(7) * mag)
 }
 
 /// Solves a·t² + b·t + c = 0 (a ≠ 0) without cancellation: the root of the
@@ -302,6 +426,23 @@ pub(crate) mod testing {
             }
         }
         checked
+    }
+
+    /// The fraction of an n×n grid of rays from `eye` (far away on +z),
+    /// aimed at the points of the square [−half, half]² in the plane z = 0,
+    /// that hit `shape`, times the square's area: the shape's silhouette
+    /// area as seen from `eye` (nearly a parallel projection when far).
+    pub fn silhouette_area(shape: &dyn Shape, eye: DVec3, half: f64, n: usize) -> f64 {
+        let mut hits = 0;
+        for j in 0..n {
+            for i in 0..n {
+                let x = -half + (i as f64 + 0.5) * 2.0 * half / n as f64;
+                let y = -half + (j as f64 + 0.5) * 2.0 * half / n as f64;
+                let ray = Ray::new(eye, (DVec3::new(x, y, 0.0) - eye).normalize());
+                hits += shape.intersect(&ray, 0.0, f64::INFINITY).is_some() as usize;
+            }
+        }
+        hits as f64 / (n * n) as f64 * (2.0 * half).powi(2)
     }
 
     /// Rays starting outside a solid's bounds cross it an even number of

@@ -8,6 +8,7 @@
 //! Texture space: u = x, v = y in the plane's own frame (unbounded).
 
 use super::{Crossing, Hit, Shape};
+use crate::geometry::rounding::gamma;
 use crate::geometry::{Aabb, DVec2, DVec3, Ray};
 use crate::scene::MaterialId;
 
@@ -40,11 +41,20 @@ impl Plane {
 
     fn hit_at(&self, ray: &Ray, t: f64) -> Hit {
         let p = ray.at(t);
+        // Projected onto the plane; the residual n·p − d carries γ₃ of the
+        // magnitudes it sums, and the projection two more roundings.
+        let residual = self.normal.dot(p) - self.offset;
+        let point = p - residual * self.normal;
+        let scale = self.normal.abs().dot(p.abs()) + self.offset.abs();
+        let p_error = gamma(4) * scale * self.normal.abs() + gamma(2) * point.abs();
         Hit {
             t,
             normal: self.normal,
             uv: DVec2::new(p.dot(self.u_axis), p.dot(self.v_axis)),
             local: p,
+            point,
+            p_error,
+            geo_normal: self.normal,
             material: self.material,
             path: 0,
         }

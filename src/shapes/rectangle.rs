@@ -8,17 +8,15 @@
 //! faces +z. Texture space: u runs from 0 to 1 along bottom_left →
 //! bottom_right, v along bottom_left → top_left.
 
-use super::{Hit, Shape, planar_hit};
+use super::{Hit, Shape, ShearedRay, barycentric_point};
 use crate::geometry::{Aabb, DVec2, DVec3, Ray};
 use crate::scene::MaterialId;
 
 #[derive(Clone, Debug)]
 pub struct Rectangle {
-    pub origin: DVec3,
-    /// bottom_left → bottom_right.
-    u_edge: DVec3,
-    /// bottom_left → top_left.
-    v_edge: DVec3,
+    /// The corners at (u, v) = (0, 0), (1, 0), (1, 1), (0, 1): bottom left,
+    /// bottom right, the fourth corner, top left.
+    corners: [DVec3; 4],
     normal: DVec3,
     pub material: MaterialId,
 }
@@ -31,28 +29,39 @@ impl Rectangle {
         material: MaterialId,
     ) -> Self {
         let (u_edge, v_edge) = (bottom_right - bottom_left, top_left - bottom_left);
+        let fourth = top_left + bottom_right - bottom_left;
         Rectangle {
-            origin: bottom_left,
-            u_edge,
-            v_edge,
+            corners: [bottom_left, bottom_right, fourth, top_left],
             normal: u_edge.cross(v_edge).normalize_or_zero(),
             material,
         }
     }
 
-    /// Möller–Trumbore with the parallelogram's bounds (u, v each in [0, 1]).
+    /// The watertight triangle test on the two halves either side of the
+    /// diagonal from bottom left to the fourth corner; both halves share
+    /// that diagonal exactly, so no ray slips between them. (u, v) follow
+    /// from each half's barycentric weights.
     fn root(&self, ray: &Ray) -> Option<Hit> {
         if self.normal == DVec3::ZERO {
             return None;
         }
-        let (t, u, v) = planar_hit(self.origin, self.u_edge, self.v_edge, ray, |_, v| {
-            (0.0..=1.0).contains(&v)
-        })?;
+        let [p00, p10, p11, p01] = self.corners;
+        let sheared = ShearedRay::new(ray);
+        let (t, tri, uv) = if let Some((t, w)) = sheared.triangle(p00, p10, p11) {
+            (t, [p00, p10, p11], (w, DVec2::new(w[1] + w[2], w[2])))
+        } else {
+            let (t, w) = sheared.triangle(p00, p11, p01)?;
+            (t, [p00, p11, p01], (w, DVec2::new(w[1], w[1] + w[2])))
+        };
+        let (point, p_error) = barycentric_point(tri, uv.0);
         Some(Hit {
             t,
             normal: self.normal,
-            uv: DVec2::new(u, v),
+            uv: uv.1,
             local: ray.at(t),
+            point,
+            p_error,
+            geo_normal: self.normal,
             material: self.material,
             path: 0,
         })
@@ -69,10 +78,8 @@ impl Shape for Rectangle {
     }
 
     fn bounds(&self) -> Aabb {
-        let o = self.origin;
-        Aabb::new(o, o + self.u_edge)
-            .grow(o + self.v_edge)
-            .grow(o + self.u_edge + self.v_edge)
+        let [a, b, c, d] = self.corners;
+        Aabb::new(a, b).grow(c).grow(d)
     }
 
     fn is_solid(&self) -> bool {

@@ -4,6 +4,7 @@
 //! at most one of these around it.
 
 use super::{Crossing, Hit, Shape};
+use crate::geometry::rounding::transform_point_error;
 use crate::geometry::{Aabb, Ray, Transform};
 
 #[derive(Debug)]
@@ -30,8 +31,13 @@ impl Transformed {
         )
     }
 
+    /// The hit in world space: normals by the inverse transpose, the point
+    /// and its error bound forward by the matrix (error grows by |M| and
+    /// the product's own rounding, see `transform_point_error`).
     fn to_world(&self, mut h: Hit) -> Hit {
         h.normal = self.transform.normal(h.normal);
+        h.geo_normal = self.transform.normal(h.geo_normal);
+        (h.point, h.p_error) = transform_point_error(&self.transform.matrix, h.point, h.p_error);
         h
     }
 }

@@ -1,4 +1,4 @@
-//! A single triangle (Möller–Trumbore), an open surface.
+//! A single triangle (the watertight test, [`ShearedRay`]), an open surface.
 //!
 //! ```text
 //! triangle { a <0, 0, 0>  b <1, 0, 0>  c <0, 1, 0>  material red }
@@ -7,45 +7,45 @@
 //! viewer. Texture space: barycentric, u the weight of b and v of c (so a is
 //! (0, 0), b is (1, 0), c is (0, 1)).
 
-use super::{Hit, Shape, planar_hit};
+use super::{Hit, Shape, ShearedRay, barycentric_point};
 use crate::geometry::{Aabb, DVec2, DVec3, Ray};
 use crate::scene::MaterialId;
 
 #[derive(Clone, Debug)]
 pub struct Triangle {
-    pub a: DVec3,
-    e1: DVec3,
-    e2: DVec3,
+    /// The corners a, b, c as given (kept, not as edges, so that a
+    /// triangle sharing an edge with another meets it exactly).
+    corners: [DVec3; 3],
     normal: DVec3,
     pub material: MaterialId,
 }
 
 impl Triangle {
     pub fn new(a: DVec3, b: DVec3, c: DVec3, material: MaterialId) -> Self {
-        let (e1, e2) = (b - a, c - a);
         Triangle {
-            a,
-            e1,
-            e2,
-            normal: e1.cross(e2).normalize_or_zero(),
+            corners: [a, b, c],
+            normal: (b - a).cross(c - a).normalize_or_zero(),
             material,
         }
     }
 
-    /// Möller–Trumbore along the whole line. A zero-area triangle has a zero
-    /// determinant for every ray and is never hit.
+    /// The watertight test along the whole line. A zero-area triangle is
+    /// never hit.
     fn root(&self, ray: &Ray) -> Option<Hit> {
         if self.normal == DVec3::ZERO {
             return None;
         }
-        let (t, u, v) = planar_hit(self.a, self.e1, self.e2, ray, |u, v| {
-            v >= 0.0 && u + v <= 1.0
-        })?;
+        let [a, b, c] = self.corners;
+        let (t, w) = ShearedRay::new(ray).triangle(a, b, c)?;
+        let (point, p_error) = barycentric_point(self.corners, w);
         Some(Hit {
             t,
             normal: self.normal,
-            uv: DVec2::new(u, v),
+            uv: DVec2::new(w[1], w[2]),
             local: ray.at(t),
+            point,
+            p_error,
+            geo_normal: self.normal,
             material: self.material,
             path: 0,
         })
@@ -62,7 +62,8 @@ impl Shape for Triangle {
     }
 
     fn bounds(&self) -> Aabb {
-        Aabb::new(self.a, self.a + self.e1).grow(self.a + self.e2)
+        let [a, b, c] = self.corners;
+        Aabb::new(a, b).grow(c)
     }
 
     fn is_solid(&self) -> bool {

@@ -261,3 +261,61 @@ fn stray_comma_between_parameters() {
         "sphere { centre <0, 1, 0>, radius 1 }\n",
     )]));
 }
+
+// ---- the evaluator: loops, calls, values ----
+
+#[test]
+fn mistake_inside_a_loop_names_the_iteration() {
+    insta::assert_snapshot!(report(&[(
+        "scene.rt",
+        "let n = 6\nfor i in 0..n {\n  sphere { radius 3 - i  centre <i, 0, 0> }\n}\n",
+    )]));
+}
+
+#[test]
+fn mistake_inside_a_function_names_the_call_and_its_arguments() {
+    insta::assert_snapshot!(report(&[(
+        "scene.rt",
+        "fn pillar(h, r = 0.3) {\n  cylinder { radius r  height h - 1.5 }\n}\n\nfor x in 0..3 {\n  pillar(1 + x * 0.5, r: 0.2) { translate <x, 0, 0> }\n}\n",
+    )]));
+}
+
+#[test]
+fn misspelt_function_and_parameter() {
+    insta::assert_snapshot!(report(&[(
+        "scene.rt",
+        "fn bell(t) = exp(-t * t)\nfn post(height) { sphere { radius 0.2  centre <0, height, 0> } }\nsphere { radius bel(0.5) }\npost(heigth: 2)\n",
+    )]));
+}
+
+#[test]
+fn index_out_of_range_gives_the_length() {
+    insta::assert_snapshot!(report(&[(
+        "scene.rt",
+        "let xs = [0.5, 1, 1.5]\nfor i in 0..=3 { sphere { radius xs[i] } }\n",
+    )]));
+}
+
+#[test]
+fn kinds_of_values_in_the_wrong_place() {
+    insta::assert_snapshot!(report(&[(
+        "scene.rt",
+        "let ball = sphere { radius 1 }\nlet r = 2\nsphere { radius ball }\nsphere { radius r(2) }\nif r { sphere { } }\n",
+    )]));
+}
+
+#[test]
+fn runaway_recursion_is_refused() {
+    insta::assert_snapshot!(report(&[(
+        "scene.rt",
+        "fn grow(n) {\n  sphere { centre <0, n, 0> }\n  grow(n + 1)\n}\ngrow(0)\n",
+    )]));
+}
+
+#[test]
+fn a_loop_too_long_is_refused() {
+    insta::assert_snapshot!(report(&[(
+        "scene.rt",
+        "for i in 0..1e9 { sphere { centre <i, 0, 0> } }\n",
+    )]));
+}

@@ -488,7 +488,9 @@ fn the_language_reference_examples_work() {
             }
         }
         // Constants and materials are declarations the other chunks use.
-        let declares = |c: &&String| c.starts_with("let ") || c.starts_with("material ");
+        let declares = |c: &&String| {
+            c.starts_with("let ") || c.starts_with("material ") || c.starts_with("fn ")
+        };
         let prefix: Vec<&str> = chunks.iter().filter(declares).map(String::as_str).collect();
         let mut prefix = prefix.join("\n");
         // Materials an example uses but declares elsewhere (in its example
@@ -549,9 +551,12 @@ fn includes_inside_blocks_add_to_the_block() {
     let s = try_build(&p).unwrap();
     assert_eq!(s.objects.len(), 2);
     assert!(close(centre_of(&s, 1), DVec3::new(2.0, 5.0, 0.0)));
+    // A `let` inside a block is local to it.
+    let s = build("sphere { let r = 2  radius r }");
+    assert_eq!(s.objects.len(), 1);
     assert_eq!(
-        errors("sphere { let r = 1 }"),
-        ["`let` is only allowed at the top level"]
+        errors("sphere { let r = 2 }\nsphere { radius r }"),
+        ["unknown name `r`"]
     );
 }
 

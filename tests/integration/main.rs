@@ -3,7 +3,9 @@
 mod cli;
 mod csg;
 mod diagnostics;
+mod eval;
 mod examples;
+mod geometry;
 mod golden;
 mod hostile;
 mod lang;

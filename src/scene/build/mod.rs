@@ -13,7 +13,6 @@
 //! they are defined; using one earlier says where it is defined.
 
 mod area;
-mod eval;
 mod objects;
 mod params;
 mod textures;
@@ -21,6 +20,7 @@ mod textures;
 use super::{
     Camera, Colour, Light, Material, Projection, RenderSettings, Scene, Texture, Transfer,
 };
+use crate::eval::expr as eval;
 use crate::geometry::DVec3;
 use crate::lang::Program;
 use crate::lang::ast::{Block, Item, Span, Spanned};
@@ -39,7 +39,10 @@ pub const MAX_IMAGE_SIDE: u32 = 16384;
 /// that is stored in 8 or 16 bits unless every surface is a perfect mirror.
 pub const MAX_DEPTH: u32 = 64;
 
-/// Builds the scene, reporting every mistake of the program at once.
+pub use objects::is_object;
+
+/// Evaluates and builds the scene, reporting every mistake of the program
+/// at once.
 pub fn build(program: &Program) -> Result<Scene, Problems> {
     build_with_warnings(program).map(|(scene, _)| scene)
 }
@@ -47,9 +50,30 @@ pub fn build(program: &Program) -> Result<Scene, Problems> {
 /// As [`build`], also giving the warnings: things that render, but perhaps
 /// not as meant or not as fast as they could (each "file:line:col: text").
 pub fn build_with_warnings(program: &Program) -> Result<(Scene, Vec<String>), Problems> {
+    build_with(program, &crate::eval::Options::default())
+}
+
+/// As [`build_with_warnings`], with values from outside the file (`-D`,
+/// `clock`, `frame`) and the evaluation's limits.
+pub fn build_with(
+    program: &Program,
+    options: &crate::eval::Options,
+) -> Result<(Scene, Vec<String>), Problems> {
     let transfer = find_transfer(&program.items);
     let mut b = Builder::new(program, transfer);
-    b.top_level(&program.items);
+    // Each part is built as soon as it is evaluated, so the evaluated
+    // items of a long loop never all exist at once.
+    let eval_errors = crate::eval::evaluate_in_parts(program, transfer, options, |items, known| {
+        if b.env.known.len() != known.len() {
+            b.env.known = known.to_vec();
+        }
+        b.top_level(&items);
+    });
+    b.errors.extend(eval_errors);
+    // A mistake inside a loop body is one mistake: keep its first report.
+    let mut seen = std::collections::HashSet::new();
+    b.errors
+        .retain(|e| seen.insert((e.span, e.message.clone())));
     if let Some(env) = &mut b.scene.environment {
         if b.background_given {
             env.visible = false;
@@ -83,25 +107,45 @@ struct Builder<'p> {
     light_surface: Option<super::LightSurface>,
     /// Whether `render` set a `background` (else an environment is the sky).
     background_given: bool,
+    /// Which loop iteration or call made what is being built.
+    trace: Option<Arc<crate::eval::Trace>>,
+    /// Mistakes reported so far, by place and message: one written inside
+    /// a loop is reported once (for the first iteration), not per iteration.
+    reported: std::collections::HashSet<(Span, String)>,
+    /// Object values built so far, by (value, default material, CSG
+    /// context): each is built once and shared by its placements.
+    instances: HashMap<InstanceKey, Vec<Arc<dyn crate::shapes::Shape>>>,
+}
+
+/// An object value built for placements: (the value's address, its
+/// default material, the CSG operation it is inside).
+type InstanceKey = (usize, super::MaterialId, Option<&'static str>);
+
+/// Every `material NAME` statement of the items, inside generated ones too.
+fn material_names(items: &[Item], out: &mut HashMap<String, Span>) {
+    for (i, item) in items.iter().enumerate() {
+        match item {
+            Item::Traced { items, .. } => material_names(items, out),
+            _ if item.as_name().is_some_and(|n| n.node == "material") => {
+                if let Some(n) = items.get(i + 1).and_then(Item::as_name) {
+                    out.entry(n.node.to_string()).or_insert(n.span);
+                }
+            }
+            _ => {}
+        }
+    }
 }
 
 impl<'p> Builder<'p> {
     fn new(program: &'p Program, transfer: Transfer) -> Self {
         let mut env = Env::new(transfer);
         let mut all_materials = HashMap::new();
-        for (i, item) in program.items.iter().enumerate() {
-            match item {
-                Item::Let { name, .. } => {
-                    env.all_lets.entry(name.node.clone()).or_insert(name.span);
-                }
-                _ if item.as_name().is_some_and(|n| n.node == "material") => {
-                    if let Some(n) = program.items.get(i + 1).and_then(Item::as_name) {
-                        all_materials.entry(n.node.to_string()).or_insert(n.span);
-                    }
-                }
-                _ => {}
+        for item in &program.items {
+            if let Item::Let { name, .. } | Item::LetItems { name, .. } = item {
+                env.all_lets.entry(name.node.clone()).or_insert(name.span);
             }
         }
+        material_names(&program.items, &mut all_materials);
         env.material_names = all_materials.keys().cloned().collect();
         let settings = RenderSettings {
             transfer,
@@ -125,11 +169,41 @@ impl<'p> Builder<'p> {
             meshes: HashMap::new(),
             light_surface: None,
             background_given: false,
+            trace: None,
+            reported: Default::default(),
+            instances: HashMap::new(),
         }
     }
 
-    fn err(&mut self, e: Error) {
+    /// Reports a mistake, saying which loop iteration or call made the
+    /// thing it is in.
+    fn err(&mut self, mut e: Error) {
+        if !self.reported.insert((e.span, e.message.clone())) {
+            return;
+        }
+        if let Some(t) = &self.trace {
+            let trail = crate::eval::trail(&t.lines(&self.program.sources));
+            e.help = Some(match e.help {
+                Some(h) => format!("{h}\n{trail}"),
+                None => trail,
+            });
+        }
         self.errors.push(e);
+    }
+
+    /// Runs `f` with `trace` as the current trace (when there is one).
+    fn traced<T>(
+        &mut self,
+        trace: Option<&Arc<crate::eval::Trace>>,
+        f: impl FnOnce(&mut Self) -> T,
+    ) -> T {
+        let Some(t) = trace else {
+            return f(self);
+        };
+        let outer = self.trace.replace(t.clone());
+        let out = f(self);
+        self.trace = outer;
+        out
     }
 
     fn warn(&mut self, span: Span, text: impl std::fmt::Display) {
@@ -144,8 +218,20 @@ impl<'p> Builder<'p> {
         while i < items.len() {
             let item = &items[i];
             i += 1;
-            if let Item::Let { name, value, .. } = item {
-                self.define(name, value);
+            if let Item::Traced { trace, items } = item {
+                self.traced(Some(trace), |b| b.top_level(items));
+                continue;
+            }
+            if let Some(value) = params::instance_of(item)
+                && let Some(Item::Block(b)) = items.get(i)
+            {
+                i += 1;
+                let name = item.as_name().map_or_else(
+                    || Spanned::new(String::new(), item.span()),
+                    |n| Spanned::new(n.node.to_string(), n.span),
+                );
+                let shapes = self.instance(&name, value, b, objects::Ctx::TOP);
+                self.scene.objects.extend(shapes);
                 continue;
             }
             let Some(kw) = item.as_name() else {
@@ -248,35 +334,6 @@ impl<'p> Builder<'p> {
         true
     }
 
-    fn define(&mut self, name: &Spanned<String>, value: &crate::lang::ast::Expr) {
-        if eval::is_reserved(&name.node) {
-            self.err(
-                Error::new(name.span, format!("`{}` is a built-in name", name.node))
-                    .label("cannot be redefined")
-                    .help("choose another name for the constant"),
-            );
-            return;
-        }
-        if let Some(c) = self.env.constants.get(&name.node) {
-            let first = c.span;
-            self.err(
-                Error::new(name.span, format!("`{}` is already defined", name.node))
-                    .label("defined again here")
-                    .note(first, "first defined here")
-                    .help("a constant can only be defined once"),
-            );
-            return;
-        }
-        let v = self.env.eval(value, &mut self.errors);
-        self.env.constants.insert(
-            name.node.clone(),
-            Constant {
-                value: v,
-                span: name.span,
-            },
-        );
-    }
-
     // ---- value helpers: each reports its own mistakes and gives None ----
 
     fn value(&mut self, item: &Item, expected: &str) -> Option<(Value, Span)> {
@@ -328,7 +385,7 @@ impl<'p> Builder<'p> {
                         "a point or direction has exactly three components"
                     }),
                     Value::Number(_) => Some("write a vector as `<x, y, z>`"),
-                    Value::Colour(_) => None,
+                    _ => None,
                 };
                 self.wrong_kind(s, "a 3-vector", &other, help);
                 None
@@ -594,7 +651,7 @@ impl<'p> Builder<'p> {
             match n.node {
                 "srgb" => return Some(Transfer::Srgb),
                 "linear" => return Some(Transfer::Linear),
-                _ if !self.env.constants.contains_key(n.node) => {
+                _ if !item.is_bound_name() => {
                     self.err(
                         Error::new(n.span, format!("unknown transfer curve `{}`", n.node))
                             .label("expected `srgb`, `linear` or a number")

@@ -6,13 +6,14 @@
 
 use super::Builder;
 use super::params::{self, Param, Schema, Spec, spec};
+use crate::eval::expr::Fragment;
 use crate::geometry::{Aabb, DVec3, Transform};
 use crate::implicit::{Equation, ImplicitSurface};
 use crate::lang::ast::{Block, Item, Span, Spanned};
 use crate::lang::diagnostics::{Error, did_you_mean};
 use crate::scene::{LightSurface, MaterialId};
 use crate::shapes::{
-    Cone, Csg, CsgOp, Cuboid, Disc, Mesh, MeshData, Plane, Rectangle, Shape, Sphere, Torus,
+    Cone, Csg, CsgOp, Cuboid, Disc, Mesh, MeshData, Plane, Rectangle, Shape, Shared, Sphere, Torus,
     Transformed, Triangle,
 };
 use std::sync::Arc;
@@ -288,10 +289,64 @@ impl Builder<'_> {
         out
     }
 
+    /// A placement of an object value (`wheel { translate … material … }`):
+    /// the value is built once per material and CSG context and shared
+    /// ([`Shared`]) by every placement, each under its own transform.
+    pub(super) fn instance(
+        &mut self,
+        name: &Spanned<String>,
+        value: &Arc<Fragment>,
+        block: &Block,
+        ctx: Ctx,
+    ) -> Vec<Box<dyn Shape>> {
+        const PLACEMENT: Schema = Schema {
+            own: &[],
+            object: true,
+            children: false,
+        };
+        let mut p = self.params(&name.node, block, &PLACEMENT);
+        let mat = match p.take("material") {
+            Some(q) => self.material_value(&q.values[0]).unwrap_or(ctx.material),
+            None => ctx.material,
+        };
+        let total = self.transform(p.take_transforms()).then(&ctx.outer);
+        self.finish(&name.node, p);
+        let key = (Arc::as_ptr(value) as usize, mat, ctx.csg);
+        let shapes = match self.instances.get(&key) {
+            Some(s) => s.clone(),
+            None => {
+                let inner = Ctx {
+                    material: mat,
+                    csg: ctx.csg,
+                    outer: Transform::IDENTITY,
+                };
+                let Some(kw) = value.items.first().and_then(Item::as_name) else {
+                    return Vec::new();
+                };
+                let kw = Spanned::new(kw.node.to_string(), kw.span);
+                let mut i = 1;
+                let built: Vec<Arc<dyn Shape>> = self
+                    .object_statement(&kw, &value.items, &mut i, inner)
+                    .into_iter()
+                    .map(Arc::from)
+                    .collect();
+                self.instances.insert(key, built.clone());
+                built
+            }
+        };
+        shapes
+            .into_iter()
+            .map(|s| wrap(Box::new(Shared(s)), total))
+            .collect()
+    }
+
     fn children(&mut self, children: &[params::Child], ctx: Ctx) -> Vec<Box<dyn Shape>> {
         let mut out = Vec::new();
         for c in children {
-            let shapes = self.object(&c.kw, c.string.as_ref(), &c.block, ctx);
+            let shapes = self.traced(c.trace.as_ref(), |b| match &c.instance {
+                Some(f) => b.instance(&c.kw, f, &c.block, ctx),
+                None => b.object(&c.kw, c.string.as_ref(), &c.block, ctx),
+            });
             if let Some(op) = ctx.csg {
                 for s in &shapes {
                     if !s.is_solid() {
@@ -535,7 +590,13 @@ impl Builder<'_> {
         p: &mut params::Params,
         mat: MaterialId,
     ) -> Option<Box<dyn Shape>> {
-        let Item::Str { text, content, .. } = string else {
+        let Item::Str {
+            text,
+            content,
+            constants,
+            ..
+        } = string
+        else {
             return None;
         };
         let bounds = match p.take("bounded_by") {
@@ -555,7 +616,12 @@ impl Builder<'_> {
             None => None,
         };
         let env = &self.env;
-        let compiled = Equation::compile(text, &|name| env.number_constant(name));
+        let compiled = Equation::compile(text, &|name| {
+            constants
+                .as_ref()
+                .and_then(|c| c.iter().find(|(n, _)| n == name).map(|(_, v)| *v))
+                .or_else(|| env.number_constant(name))
+        });
         match compiled {
             Ok(eq) => {
                 let surface = ImplicitSurface::new(eq, bounds, mat);
@@ -690,9 +756,11 @@ impl Builder<'_> {
         match q.name.node.as_str() {
             "translate" => self.vec3(&v[0]).map(|(d, _)| Transform::translate(d)),
             "rotate" => {
+                // `x`, `y` and `z` are axes here even where a loop or a
+                // parameter has that name; any other bound name is a vector.
                 let bare = v[0]
                     .as_name()
-                    .filter(|n| !self.env.constants.contains_key(n.node));
+                    .filter(|n| !v[0].is_bound_name() || axis_index(n.node).is_some());
                 let axis = match bare {
                     Some(_) => self.axis(&v[0]).map(|a| DVec3::AXES[a]),
                     None => match self.vec3(&v[0]) {

@@ -4,8 +4,8 @@
 //! parameter or the end of the block is "missing its value"; a parameter
 //! given twice is an error (transforms may repeat: they compose).
 
-use super::eval::Env;
 use super::objects;
+use crate::eval::expr::Env;
 use crate::lang::ast::{Block, Item, Span, Spanned};
 use crate::lang::diagnostics::{Error, did_you_mean};
 
@@ -251,6 +251,35 @@ pub struct Child {
     pub kw: Spanned<String>,
     pub string: Option<Item>,
     pub block: Block,
+    /// The loop iteration or call that made it.
+    pub trace: Option<std::sync::Arc<crate::eval::Trace>>,
+    /// A placement of an object value: `kw` is its name, `block` the
+    /// placement's transforms and material.
+    pub instance: Option<std::sync::Arc<crate::eval::expr::Fragment>>,
+}
+
+/// The object value an item places (`wheel` in `wheel { … }`), if it is one.
+pub fn instance_of(item: &Item) -> Option<&std::sync::Arc<crate::eval::expr::Fragment>> {
+    match item {
+        Item::Value(crate::lang::ast::Expr {
+            kind: crate::lang::ast::ExprKind::Bound(_, Some(crate::eval::expr::Value::Items(f))),
+            ..
+        }) if objects::is_object(f.head()) => Some(f),
+        _ => None,
+    }
+}
+
+type Trace = Option<std::sync::Arc<crate::eval::Trace>>;
+
+/// A block's items with the evaluator's [`Item::Traced`] wrappers opened,
+/// each item with the trace of the wrapper it was in.
+fn flatten(items: &[Item], trace: &Trace, out: &mut Vec<(Item, Trace)>) {
+    for it in items {
+        match it {
+            Item::Traced { trace, items } => flatten(items, &Some(trace.clone()), out),
+            other => out.push((other.clone(), trace.clone())),
+        }
+    }
 }
 
 /// The parameters of one block, in the order written.
@@ -293,7 +322,16 @@ pub fn read(
     env: &Env,
     errors: &mut Vec<Error>,
 ) -> Params {
-    let items = &block.items;
+    let mut flat = Vec::new();
+    let opened;
+    let items: &[Item] = if block.items.iter().any(|i| matches!(i, Item::Traced { .. })) {
+        flatten(&block.items, &None, &mut flat);
+        opened = flat.iter().map(|(i, _)| i.clone()).collect::<Vec<_>>();
+        &opened
+    } else {
+        &block.items
+    };
+    let trace_at = |k: usize| flat.get(k).and_then(|(_, t)| t.clone());
     let end = Span::new(
         block.span.file,
         block.span.end.saturating_sub(1),
@@ -308,7 +346,7 @@ pub fn read(
         it.as_name().is_some_and(|n| {
             let c = canonical(n.node);
             (schema.get(c).is_some() || (schema.children && objects::is_object(c)))
-                && !env.constants.contains_key(n.node)
+                && !it.is_bound_name()
         })
     };
     let mut i = 0;
@@ -358,6 +396,20 @@ pub fn read(
             errors.push(e);
             continue;
         };
+        if schema.children
+            && let Some(f) = instance_of(item)
+            && let Some(Item::Block(b)) = items.get(i)
+        {
+            i += 1;
+            out.children.push(Child {
+                kw: name.clone(),
+                string: None,
+                block: b.clone(),
+                trace: trace_at(i - 2),
+                instance: Some(f.clone()),
+            });
+            continue;
+        }
         let canon = canonical(&name.node).to_string();
         if schema.children && objects::is_object(&canon) {
             let string = if objects::takes_string(&canon) {
@@ -378,6 +430,8 @@ pub fn read(
                         kw: Spanned::new(canon, name.span),
                         string,
                         block: b.clone(),
+                        trace: trace_at(i - 1),
+                        instance: None,
                     });
                 }
                 _ => errors.push(

@@ -228,7 +228,7 @@ impl Builder<'_> {
 
     /// `<u, v>`, or one number for both.
     fn vec2(&mut self, item: &Item) -> Option<DVec2> {
-        use super::eval::Value;
+        use crate::eval::expr::Value;
         match self.value(item, "a 2-vector `<u, v>`")? {
             (Value::Number(n), _) if n.is_finite() => Some(DVec2::splat(n)),
             (Value::Vector(v), _) if v.len() == 2 && v.iter().all(|c| c.is_finite()) => {

@@ -1,0 +1,1080 @@
+//! Values and expressions: arithmetic on numbers, vectors and colours,
+//! comparisons and conditions, lists, the built-in functions, and named
+//! colours. Every mistake is an [`Error`] at the characters that caused it.
+//!
+//! Names are looked up through [`Names`]: the evaluator (`eval::Expander`)
+//! gives its scopes and user functions, the builder its leftovers.
+
+use crate::lang::ast::{BinOp, Expr, ExprKind, Item, Span, Spanned};
+use crate::lang::diagnostics::{Error, did_you_mean};
+use crate::scene::{Colour, Transfer};
+use std::collections::HashMap;
+use std::sync::Arc;
+
+/// What an expression evaluates to.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Value {
+    Number(f64),
+    /// `<a, b, …>`: any number of components (a 3-vector is the usual).
+    Vector(Vec<f64>),
+    /// Linear RGB.
+    Colour(Colour),
+    /// What a comparison gives.
+    Bool(bool),
+    /// `[a, b, …]`
+    List(Arc<Vec<Value>>),
+    /// An object, material or pattern written as items
+    /// (`let spoke = cylinder { … }`), already evaluated.
+    Items(Arc<Fragment>),
+}
+
+/// Items bound to a name: `cylinder { … }`, `material { … }`,
+/// `checker { … }`, with the names inside already worked out.
+#[derive(Debug, PartialEq)]
+pub struct Fragment {
+    pub items: Vec<Item>,
+    /// Where the `let` wrote it.
+    pub span: Span,
+}
+
+impl Fragment {
+    /// The statement word it starts with (`cylinder`, `material`, …).
+    pub fn head(&self) -> &str {
+        self.items
+            .first()
+            .and_then(Item::as_name)
+            .map_or("", |n| n.node)
+    }
+
+    pub fn is_material(&self) -> bool {
+        self.head() == "material"
+    }
+}
+
+impl Value {
+    pub fn kind(&self) -> String {
+        match self {
+            Value::Number(_) => "a number".into(),
+            Value::Vector(v) => format!("a {}-vector", v.len()),
+            Value::Colour(_) => "a colour".into(),
+            Value::Bool(_) => "a condition (true or false)".into(),
+            Value::List(l) => format!("a list of {}", l.len()),
+            Value::Items(f) if f.is_material() => "a material".into(),
+            Value::Items(f) if crate::scene::is_object(f.head()) => {
+                format!("an object (`{}`)", f.head())
+            }
+            Value::Items(f) => format!("a pattern (`{}`)", f.head()),
+        }
+    }
+
+    /// Short text for messages ("with h = 1.7").
+    pub fn show(&self) -> String {
+        match self {
+            Value::Number(v) => format!("{v}"),
+            Value::Vector(v) => format!(
+                "<{}>",
+                v.iter()
+                    .map(|x| x.to_string())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+            Value::Colour(c) => format!("rgb({}, {}, {})", c.x, c.y, c.z),
+            Value::Bool(b) => format!("{b}"),
+            Value::List(l) if l.len() <= 4 => {
+                format!(
+                    "[{}]",
+                    l.iter().map(Value::show).collect::<Vec<_>>().join(", ")
+                )
+            }
+            other => other.kind(),
+        }
+    }
+}
+
+/// Built-in functions and their argument counts.
+pub const FUNCTIONS: &[(&str, usize)] = &[
+    ("sqrt", 1),
+    ("sin", 1),
+    ("cos", 1),
+    ("tan", 1),
+    ("rad", 1),
+    ("deg", 1),
+    ("abs", 1),
+    ("min", 2),
+    ("max", 2),
+    ("rgb", 3),
+    ("exp", 1),
+    ("log", 1),
+    ("floor", 1),
+    ("ceil", 1),
+    ("round", 1),
+    ("atan2", 2),
+    ("clamp", 3),
+    ("lerp", 3),
+    ("normalize", 1),
+    ("dot", 2),
+    ("cross", 2),
+    ("length", 1),
+    ("len", 1),
+    ("random", 2),
+];
+
+/// Names a `let` may not take: built-in constants and functions, the
+/// animation numbers, and the variables of equations (a constant `x` would
+/// make `implicit "x^2 …"` ambiguous).
+pub fn is_reserved(name: &str) -> bool {
+    matches!(name, "pi" | "x" | "y" | "z" | "clock" | "frame")
+        || FUNCTIONS.iter().any(|(f, _)| *f == name)
+}
+
+/// A defined constant: its value (`None` when its definition was wrong and
+/// has been reported, so uses of it stay quiet) and where it was defined.
+#[derive(Clone, Debug)]
+pub struct Constant {
+    pub value: Option<Value>,
+    pub span: Span,
+}
+
+/// How an evaluation finds names and user functions.
+pub trait Names {
+    /// The curve that decodes `#rrggbb` and named colours.
+    fn transfer(&self) -> Transfer;
+    /// A bound name's value: `Some(None)` when it is bound to a value
+    /// whose definition failed (already reported), `None` when unbound.
+    fn lookup(&self, name: &str) -> Option<Option<Value>>;
+    /// Calls a user function, `None` when there is none of that name
+    /// (then the built-ins are tried).
+    fn call(&self, call: &Expr, errors: &mut Vec<Error>) -> Option<Option<Value>>;
+    /// Reports an unknown name (with suggestions from what is in scope).
+    fn unknown(&self, name: &str, span: Span, errors: &mut Vec<Error>);
+    /// The user functions in scope (for suggestions).
+    fn functions(&self) -> Vec<String> {
+        Vec::new()
+    }
+    /// Counts one step of work; false when the budget is spent (reported).
+    fn step(&self, _span: Span, _errors: &mut Vec<Error>) -> bool {
+        true
+    }
+}
+
+/// The constants defined so far, and the curve that decodes `#rrggbb` and
+/// named colours: what the builder evaluates its leftover names with.
+#[derive(Debug)]
+pub struct Env {
+    pub constants: HashMap<String, Constant>,
+    pub transfer: Transfer,
+    /// Every constant of the program with where it is defined, for "is
+    /// defined later" hints.
+    pub all_lets: HashMap<String, Span>,
+    /// Every named material of the program: after `material`, such a name
+    /// is the material even when it is also a keyword (`material mirror`).
+    pub material_names: std::collections::HashSet<String>,
+    /// Names bound anywhere in the program (for suggestions).
+    pub known: Vec<String>,
+}
+
+impl Names for Env {
+    fn transfer(&self) -> Transfer {
+        self.transfer
+    }
+
+    fn lookup(&self, name: &str) -> Option<Option<Value>> {
+        self.constants.get(name).map(|c| c.value.clone())
+    }
+
+    fn call(&self, _call: &Expr, _errors: &mut Vec<Error>) -> Option<Option<Value>> {
+        None
+    }
+
+    fn unknown(&self, n: &str, span: Span, errors: &mut Vec<Error>) {
+        let mut err = Error::new(span, format!("unknown name `{n}`")).label("not defined");
+        if let Some(def) = self.all_lets.get(n) {
+            err = err
+                .help(format!(
+                    "`{n}` is defined later; a constant can only be used after its `let`"
+                ))
+                .note(*def, "defined here");
+        } else {
+            let names = self
+                .constants
+                .keys()
+                .chain(self.known.iter())
+                .map(String::as_str)
+                .chain(["pi", "clock", "frame"])
+                .chain(COLOURS.iter().map(|(c, _)| *c));
+            err = err.maybe_help(did_you_mean(n, names));
+        }
+        errors.push(err);
+    }
+}
+
+impl Env {
+    pub fn new(transfer: Transfer) -> Env {
+        Env {
+            constants: HashMap::new(),
+            transfer,
+            all_lets: HashMap::new(),
+            material_names: Default::default(),
+            known: Vec::new(),
+        }
+    }
+
+    pub fn number_constant(&self, name: &str) -> Option<f64> {
+        match self.constants.get(name)?.value {
+            Some(Value::Number(v)) => Some(v),
+            _ => None,
+        }
+    }
+
+    /// Evaluates `e`, reporting mistakes into `errors`; `None` when it failed
+    /// (already reported).
+    pub fn eval(&self, e: &Expr, errors: &mut Vec<Error>) -> Option<Value> {
+        eval(self, e, errors)
+    }
+}
+
+/// Evaluates `e` with the names of `names`, reporting mistakes into
+/// `errors`; `None` when it failed (already reported).
+pub fn eval(names: &dyn Names, e: &Expr, errors: &mut Vec<Error>) -> Option<Value> {
+    if !names.step(e.span, errors) {
+        return None;
+    }
+    let v = match &e.kind {
+        ExprKind::Number(v) => {
+            if !v.is_finite() {
+                errors.push(
+                    Error::new(e.span, "this number is too large")
+                        .label("larger than a 64-bit float can hold"),
+                );
+                return None;
+            }
+            Value::Number(*v)
+        }
+        ExprKind::Value(v) => return Some(v.clone()),
+        ExprKind::Hex([r, g, b]) => Value::Colour(names.transfer().decode_rgb8(*r, *g, *b)),
+        ExprKind::Name(n) => return name(names, n, e.span, errors),
+        ExprKind::Vector(parts) => {
+            let mut out = Vec::with_capacity(parts.len());
+            let mut ok = true;
+            for p in parts {
+                match eval(names, p, errors) {
+                    Some(Value::Number(v)) => out.push(v),
+                    Some(other) => {
+                        errors.push(
+                            Error::new(p.span, "a vector's components must be numbers")
+                                .label(format!("this is {}", other.kind())),
+                        );
+                        ok = false;
+                    }
+                    None => ok = false,
+                }
+            }
+            if !ok {
+                return None;
+            }
+            Value::Vector(out)
+        }
+        ExprKind::List(parts) => {
+            let mut out = Vec::with_capacity(parts.len());
+            let mut ok = true;
+            for p in parts {
+                match eval(names, p, errors) {
+                    Some(v) => out.push(v),
+                    None => ok = false,
+                }
+            }
+            if !ok {
+                return None;
+            }
+            Value::List(Arc::new(out))
+        }
+        ExprKind::Index { base, index } => {
+            let b = eval(names, base, errors);
+            let i = eval(names, index, errors);
+            return self::index(b?, i?, base, index, errors);
+        }
+        ExprKind::Neg(inner) => match eval(names, inner, errors)? {
+            Value::Number(v) => Value::Number(-v),
+            Value::Vector(v) => Value::Vector(v.iter().map(|x| -x).collect()),
+            other => {
+                errors.push(
+                    Error::new(e.span, format!("cannot negate {}", other.kind()))
+                        .label(format!("this is {}", other.kind())),
+                );
+                return None;
+            }
+        },
+        ExprKind::Not(inner) => match eval(names, inner, errors)? {
+            Value::Bool(b) => Value::Bool(!b),
+            other => {
+                errors.push(
+                    Error::new(
+                        inner.span,
+                        format!("`not` needs a condition, found {}", other.kind()),
+                    )
+                    .label(format!("this is {}", other.kind()))
+                    .help("compare it: `not (a == 0)`"),
+                );
+                return None;
+            }
+        },
+        ExprKind::Binary {
+            op: op @ (BinOp::And | BinOp::Or),
+            lhs,
+            rhs,
+        } => {
+            // Short-circuit: `i > 0 and xs[i - 1] == 2` is safe.
+            let a = condition(names, lhs, errors)?;
+            if (*op == BinOp::And && !a) || (*op == BinOp::Or && a) {
+                return Some(Value::Bool(a));
+            }
+            return condition(names, rhs, errors).map(Value::Bool);
+        }
+        ExprKind::Binary { op, lhs, rhs } => {
+            let a = eval(names, lhs, errors);
+            let b = eval(names, rhs, errors);
+            return binary(*op, a?, b?, e, errors);
+        }
+        ExprKind::Call { name, args, named } => {
+            if let Some(v) = names.call(e, errors) {
+                return v;
+            }
+            let mut vals = Vec::with_capacity(args.len());
+            for a in args {
+                vals.push(eval(names, a, errors));
+            }
+            let Some(&(_, arity)) = FUNCTIONS.iter().find(|(f, _)| *f == name.node) else {
+                let user = names.functions();
+                let help = did_you_mean(
+                    &name.node,
+                    FUNCTIONS
+                        .iter()
+                        .map(|(f, _)| *f)
+                        .chain(user.iter().map(String::as_str)),
+                );
+                errors.push(
+                    Error::new(name.span, format!("unknown function `{}`", name.node))
+                        .label("not a function")
+                        .help(help.unwrap_or_else(|| {
+                            "the functions are sqrt, sin, cos, tan, rad, deg, abs, min, max, rgb, exp, log, floor, ceil, round, atan2, clamp, lerp, normalize, dot, cross, length, len and random, and those declared with `fn`".into()
+                        })),
+                );
+                return None;
+            };
+            if let Some((n, _)) = named.first() {
+                errors.push(
+                    Error::new(n.span, format!("`{}` takes no named arguments", name.node))
+                        .label("named argument")
+                        .help("built-in functions take their arguments in order"),
+                );
+                return None;
+            }
+            if vals.len() != arity {
+                errors.push(
+                    Error::new(
+                        e.span,
+                        format!(
+                            "`{}` takes {arity} argument{}, not {}",
+                            name.node,
+                            if arity == 1 { "" } else { "s" },
+                            vals.len()
+                        ),
+                    )
+                    .label(format!("{} given", vals.len())),
+                );
+                return None;
+            }
+            let mut got = Vec::with_capacity(arity);
+            for v in vals {
+                got.push(v?);
+            }
+            return call(&name.node, &got, e, args, errors);
+        }
+        ExprKind::Bound(_, v) => return v.clone(),
+    };
+    Some(v)
+}
+
+/// Evaluates a condition: it must give true or false.
+pub fn condition(names: &dyn Names, e: &Expr, errors: &mut Vec<Error>) -> Option<bool> {
+    match eval(names, e, errors)? {
+        Value::Bool(b) => Some(b),
+        other => {
+            errors.push(
+                Error::new(
+                    e.span,
+                    format!("expected a condition, found {}", other.kind()),
+                )
+                .label(format!("this is {}", other.kind()))
+                .help("a condition compares values: `i % 2 == 0`, `x < 3 and y > 1`"),
+            );
+            None
+        }
+    }
+}
+
+fn name(names: &dyn Names, n: &str, span: Span, errors: &mut Vec<Error>) -> Option<Value> {
+    if let Some(v) = names.lookup(n) {
+        return v;
+    }
+    if n == "pi" {
+        return Some(Value::Number(std::f64::consts::PI));
+    }
+    if let Some(rgb) = named_colour(n) {
+        return Some(Value::Colour(
+            names.transfer().decode_rgb8(rgb[0], rgb[1], rgb[2]),
+        ));
+    }
+    names.unknown(n, span, errors);
+    None
+}
+
+fn index(base: Value, i: Value, be: &Expr, ie: &Expr, errors: &mut Vec<Error>) -> Option<Value> {
+    let len = match &base {
+        Value::List(l) => l.len(),
+        Value::Vector(v) => v.len(),
+        other => {
+            errors.push(
+                Error::new(be.span, format!("cannot index {}", other.kind()))
+                    .label(format!("this is {}", other.kind()))
+                    .help("only lists `[…]` and vectors `<…>` have elements"),
+            );
+            return None;
+        }
+    };
+    let k = match i {
+        Value::Number(k) if k.fract() == 0.0 && k >= 0.0 && (k as usize) < len => k as usize,
+        Value::Number(k) => {
+            errors.push(
+                Error::new(ie.span, format!("index {k} is out of range"))
+                    .label(format!(
+                        "the {} has {len} element{}",
+                        if matches!(base, Value::List(_)) {
+                            "list"
+                        } else {
+                            "vector"
+                        },
+                        if len == 1 { "" } else { "s" }
+                    ))
+                    .help(if len == 0 {
+                        "it is empty".to_string()
+                    } else {
+                        format!("indices are whole numbers from 0 to {}", len - 1)
+                    }),
+            );
+            return None;
+        }
+        other => {
+            errors.push(
+                Error::new(
+                    ie.span,
+                    format!("an index must be a number, found {}", other.kind()),
+                )
+                .label(format!("this is {}", other.kind())),
+            );
+            return None;
+        }
+    };
+    Some(match base {
+        Value::List(l) => l[k].clone(),
+        Value::Vector(v) => Value::Number(v[k]),
+        _ => unreachable!("checked above"),
+    })
+}
+
+fn finite(v: Value, e: &Expr, errors: &mut Vec<Error>) -> Option<Value> {
+    let ok = match &v {
+        Value::Number(x) => x.is_finite(),
+        Value::Vector(xs) => xs.iter().all(|x| x.is_finite()),
+        Value::Colour(c) => c.is_finite(),
+        Value::Bool(_) | Value::List(_) | Value::Items(_) => true,
+    };
+    if ok {
+        Some(v)
+    } else {
+        errors.push(
+            Error::new(e.span, "this does not give a finite value")
+                .label("infinite or not a number")
+                .help("check for a division by zero or a huge power"),
+        );
+        None
+    }
+}
+
+fn binary(op: BinOp, a: Value, b: Value, e: &Expr, errors: &mut Vec<Error>) -> Option<Value> {
+    use Value::*;
+    let num = |x: f64, y: f64| match op {
+        BinOp::Add => x + y,
+        BinOp::Sub => x - y,
+        BinOp::Mul => x * y,
+        BinOp::Div => x / y,
+        BinOp::Pow => x.powf(y),
+        // The sign of the divisor, so `-1 % 12` is 11 (what loops want).
+        _ => x.rem_euclid(y),
+    };
+    let v = match (&a, &b, op) {
+        (_, _, BinOp::Eq | BinOp::Ne) if comparable(&a, &b) => Bool((a == b) == (op == BinOp::Eq)),
+        (Number(x), Number(y), BinOp::Lt) => Bool(x < y),
+        (Number(x), Number(y), BinOp::Le) => Bool(x <= y),
+        (Number(x), Number(y), BinOp::Gt) => Bool(x > y),
+        (Number(x), Number(y), BinOp::Ge) => Bool(x >= y),
+        (Number(_), Number(y), BinOp::Div | BinOp::Rem) if *y == 0.0 => {
+            errors.push(Error::new(e.span, "division by zero").label("divides by zero"));
+            return None;
+        }
+        (
+            Number(x),
+            Number(y),
+            BinOp::Add | BinOp::Sub | BinOp::Mul | BinOp::Div | BinOp::Pow | BinOp::Rem,
+        ) => Number(num(*x, *y)),
+        (Vector(x), Vector(y), BinOp::Add | BinOp::Sub) if x.len() == y.len() => {
+            Vector(x.iter().zip(y).map(|(p, q)| num(*p, *q)).collect())
+        }
+        (Vector(x), Number(s), BinOp::Mul | BinOp::Div) => {
+            Vector(x.iter().map(|p| num(*p, *s)).collect())
+        }
+        (Number(s), Vector(x), BinOp::Mul) => Vector(x.iter().map(|p| p * s).collect()),
+        (Colour(x), Colour(y), BinOp::Add | BinOp::Sub | BinOp::Mul) => Colour(match op {
+            BinOp::Add => *x + *y,
+            BinOp::Sub => *x - *y,
+            _ => *x * *y,
+        }),
+        (Colour(x), Number(s), BinOp::Mul) | (Number(s), Colour(x), BinOp::Mul) => Colour(*x * *s),
+        (Colour(x), Number(s), BinOp::Div) => Colour(*x / *s),
+        (List(x), List(y), BinOp::Add) => {
+            List(Arc::new(x.iter().chain(y.iter()).cloned().collect()))
+        }
+        _ => {
+            let what = match op {
+                BinOp::Add => "add",
+                BinOp::Sub => "subtract",
+                BinOp::Mul => "multiply",
+                BinOp::Div => "divide",
+                BinOp::Pow => "raise",
+                BinOp::Rem => "take the remainder of",
+                _ => "compare",
+            };
+            let (pa, pb) = match op {
+                BinOp::Add => (a.kind(), format!("to {}", b.kind())),
+                BinOp::Sub => (b.kind(), format!("from {}", a.kind())),
+                BinOp::Pow => (a.kind(), format!("to the power {}", b.kind())),
+                BinOp::Eq | BinOp::Ne | BinOp::Lt | BinOp::Le | BinOp::Gt | BinOp::Ge => {
+                    (a.kind(), format!("with {}", b.kind()))
+                }
+                _ => (a.kind(), format!("by {}", b.kind())),
+            };
+            errors.push(
+                Error::new(e.span, format!("cannot {what} {pa} {pb}")).label(format!(
+                    "{} {op} {}",
+                    a.kind(),
+                    b.kind()
+                )),
+            );
+            return None;
+        }
+    };
+    finite(v, e, errors)
+}
+
+/// `==` is defined between values of one kind (objects never compare).
+fn comparable(a: &Value, b: &Value) -> bool {
+    use Value::*;
+    matches!(
+        (a, b),
+        (Number(_), Number(_))
+            | (Vector(_), Vector(_))
+            | (Colour(_), Colour(_))
+            | (Bool(_), Bool(_))
+            | (List(_), List(_))
+    )
+}
+
+/// A pure hash of (seed, i) to [0, 1): the same numbers on every run and
+/// machine (SplitMix64 of the two numbers' bits).
+pub fn random(seed: f64, i: f64) -> f64 {
+    let mix = |mut z: u64| {
+        z = z.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    };
+    // +0.0 so that -0 and 0 give the same number.
+    let h = mix(mix((seed + 0.0).to_bits()) ^ (i + 0.0).to_bits());
+    (h >> 11) as f64 / (1u64 << 53) as f64
+}
+
+fn call(
+    name: &str,
+    v: &[Value],
+    e: &Expr,
+    args: &[Expr],
+    errors: &mut Vec<Error>,
+) -> Option<Value> {
+    // Each argument's expected kind, checked before the maths.
+    let want = |k: usize, what: &str, errors: &mut Vec<Error>| {
+        errors.push(
+            Error::new(
+                args[k].span,
+                format!("`{name}` needs {what} here, found {}", v[k].kind()),
+            )
+            .label(format!("this is {}", v[k].kind())),
+        );
+    };
+    let nums = |errors: &mut Vec<Error>| -> Option<Vec<f64>> {
+        let mut out = Vec::with_capacity(v.len());
+        for (k, x) in v.iter().enumerate() {
+            match x {
+                Value::Number(n) => out.push(*n),
+                _ => {
+                    want(k, "a number", errors);
+                    return None;
+                }
+            }
+        }
+        Some(out)
+    };
+    let vec3 = |k: usize, errors: &mut Vec<Error>| -> Option<[f64; 3]> {
+        match &v[k] {
+            Value::Vector(x) if x.len() == 3 => Some([x[0], x[1], x[2]]),
+            _ => {
+                want(k, "a 3-vector", errors);
+                None
+            }
+        }
+    };
+    let out = match name {
+        "normalize" | "length" => {
+            let a = vec3(0, errors)?;
+            let l = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+            if name == "length" {
+                Value::Number(l)
+            } else if l == 0.0 {
+                errors.push(
+                    Error::new(args[0].span, "cannot normalize a zero vector")
+                        .label("its length is 0"),
+                );
+                return None;
+            } else {
+                Value::Vector(a.iter().map(|x| x / l).collect())
+            }
+        }
+        "dot" | "cross" => {
+            let a = vec3(0, errors);
+            let b = vec3(1, errors);
+            let (a, b) = (a?, b?);
+            if name == "dot" {
+                Value::Number(a[0] * b[0] + a[1] * b[1] + a[2] * b[2])
+            } else {
+                Value::Vector(vec![
+                    a[1] * b[2] - a[2] * b[1],
+                    a[2] * b[0] - a[0] * b[2],
+                    a[0] * b[1] - a[1] * b[0],
+                ])
+            }
+        }
+        "len" => match &v[0] {
+            Value::List(l) => Value::Number(l.len() as f64),
+            Value::Vector(x) => Value::Number(x.len() as f64),
+            _ => {
+                want(0, "a list", errors);
+                return None;
+            }
+        },
+        "lerp" if !matches!(v[2], Value::Number(_)) => {
+            want(2, "a number", errors);
+            return None;
+        }
+        "lerp" => {
+            // Numbers, vectors or colours: a + (b − a)·t.
+            let Value::Number(t) = v[2] else {
+                unreachable!()
+            };
+            match (&v[0], &v[1]) {
+                (Value::Number(a), Value::Number(b)) => Value::Number(a + (b - a) * t),
+                (Value::Vector(a), Value::Vector(b)) if a.len() == b.len() => {
+                    Value::Vector(a.iter().zip(b).map(|(a, b)| a + (b - a) * t).collect())
+                }
+                (Value::Colour(a), Value::Colour(b)) => Value::Colour(*a + (*b - *a) * t),
+                _ => {
+                    errors.push(
+                        Error::new(
+                            e.span,
+                            format!("`lerp` cannot mix {} and {}", v[0].kind(), v[1].kind()),
+                        )
+                        .label("different kinds")
+                        .help("lerp(a, b, t) mixes two numbers, vectors or colours of one kind"),
+                    );
+                    return None;
+                }
+            }
+        }
+        _ => {
+            let x = nums(errors)?;
+            let domain = |ok: bool, what: &str, errors: &mut Vec<Error>| {
+                if !ok {
+                    errors.push(
+                        Error::new(args[0].span, what.to_string())
+                            .label(format!("this is {}", x[0])),
+                    );
+                }
+                ok
+            };
+            Value::Number(match name {
+                "sqrt" => {
+                    if !domain(x[0] >= 0.0, "square root of a negative number", errors) {
+                        return None;
+                    }
+                    x[0].sqrt()
+                }
+                "log" => {
+                    if !domain(
+                        x[0] > 0.0,
+                        "logarithm of a number that is not positive",
+                        errors,
+                    ) {
+                        return None;
+                    }
+                    x[0].ln()
+                }
+                "sin" => x[0].sin(),
+                "cos" => x[0].cos(),
+                "tan" => x[0].tan(),
+                "rad" => x[0].to_radians(),
+                "deg" => x[0].to_degrees(),
+                "abs" => x[0].abs(),
+                "min" => x[0].min(x[1]),
+                "max" => x[0].max(x[1]),
+                "exp" => x[0].exp(),
+                "floor" => x[0].floor(),
+                "ceil" => x[0].ceil(),
+                "round" => x[0].round(),
+                "atan2" => x[0].atan2(x[1]),
+                "clamp" => x[0].max(x[1]).min(x[2]),
+                "random" => random(x[0], x[1]),
+                "rgb" => {
+                    for (c, a) in x.iter().zip(args) {
+                        if *c < 0.0 {
+                            errors.push(
+                                Error::new(a.span, "a colour component cannot be negative")
+                                    .label(format!("this is {c}")),
+                            );
+                            return None;
+                        }
+                    }
+                    return finite(Value::Colour(Colour::new(x[0], x[1], x[2])), e, errors);
+                }
+                _ => unreachable!("checked against FUNCTIONS"),
+            })
+        }
+    };
+    finite(out, e, errors)
+}
+
+/// Whether `e` names nothing the evaluator cannot see: then it can be
+/// worked out to a value before the builder.
+pub fn is_closed(names: &dyn Names, e: &Expr) -> bool {
+    match &e.kind {
+        ExprKind::Name(n) => names.lookup(n).is_some() || n == "pi" || named_colour(n).is_some(),
+        ExprKind::Number(_) | ExprKind::Hex(_) | ExprKind::Value(_) | ExprKind::Bound(..) => true,
+        ExprKind::Vector(v) | ExprKind::List(v) => v.iter().all(|p| is_closed(names, p)),
+        ExprKind::Call { args, named, .. } => {
+            args.iter().all(|p| is_closed(names, p))
+                && named.iter().all(|(_, p)| is_closed(names, p))
+        }
+        ExprKind::Neg(x) | ExprKind::Not(x) => is_closed(names, x),
+        ExprKind::Binary { lhs, rhs, .. } => is_closed(names, lhs) && is_closed(names, rhs),
+        ExprKind::Index { base, index } => is_closed(names, base) && is_closed(names, index),
+    }
+}
+
+/// `Spanned` re-exported for the evaluator's signatures.
+pub type Name = Spanned<String>;
+
+pub fn named_colour(name: &str) -> Option<[u8; 3]> {
+    COLOURS
+        .binary_search_by(|(n, _)| (*n).cmp(name))
+        .ok()
+        .map(|i| {
+            let c = COLOURS[i].1;
+            [(c >> 16) as u8, (c >> 8) as u8, c as u8]
+        })
+}
+
+/// The CSS colour names (sorted, for binary search).
+pub const COLOURS: &[(&str, u32)] = &[
+    ("aliceblue", 0xf0f8ff),
+    ("antiquewhite", 0xfaebd7),
+    ("aqua", 0x00ffff),
+    ("aquamarine", 0x7fffd4),
+    ("azure", 0xf0ffff),
+    ("beige", 0xf5f5dc),
+    ("bisque", 0xffe4c4),
+    ("black", 0x000000),
+    ("blanchedalmond", 0xffebcd),
+    ("blue", 0x0000ff),
+    ("blueviolet", 0x8a2be2),
+    ("brown", 0xa52a2a),
+    ("burlywood", 0xdeb887),
+    ("cadetblue", 0x5f9ea0),
+    ("chartreuse", 0x7fff00),
+    ("chocolate", 0xd2691e),
+    ("coral", 0xff7f50),
+    ("cornflowerblue", 0x6495ed),
+    ("cornsilk", 0xfff8dc),
+    ("crimson", 0xdc143c),
+    ("cyan", 0x00ffff),
+    ("darkblue", 0x00008b),
+    ("darkcyan", 0x008b8b),
+    ("darkgoldenrod", 0xb8860b),
+    ("darkgray", 0xa9a9a9),
+    ("darkgreen", 0x006400),
+    ("darkgrey", 0xa9a9a9),
+    ("darkkhaki", 0xbdb76b),
+    ("darkmagenta", 0x8b008b),
+    ("darkolivegreen", 0x556b2f),
+    ("darkorange", 0xff8c00),
+    ("darkorchid", 0x9932cc),
+    ("darkred", 0x8b0000),
+    ("darksalmon", 0xe9967a),
+    ("darkseagreen", 0x8fbc8f),
+    ("darkslateblue", 0x483d8b),
+    ("darkslategray", 0x2f4f4f),
+    ("darkslategrey", 0x2f4f4f),
+    ("darkturquoise", 0x00ced1),
+    ("darkviolet", 0x9400d3),
+    ("deeppink", 0xff1493),
+    ("deepskyblue", 0x00bfff),
+    ("dimgray", 0x696969),
+    ("dimgrey", 0x696969),
+    ("dodgerblue", 0x1e90ff),
+    ("firebrick", 0xb22222),
+    ("floralwhite", 0xfffaf0),
+    ("forestgreen", 0x228b22),
+    ("fuchsia", 0xff00ff),
+    ("gainsboro", 0xdcdcdc),
+    ("ghostwhite", 0xf8f8ff),
+    ("gold", 0xffd700),
+    ("goldenrod", 0xdaa520),
+    ("gray", 0x808080),
+    ("green", 0x008000),
+    ("greenyellow", 0xadff2f),
+    ("grey", 0x808080),
+    ("honeydew", 0xf0fff0),
+    ("hotpink", 0xff69b4),
+    ("indianred", 0xcd5c5c),
+    ("indigo", 0x4b0082),
+    ("ivory", 0xfffff0),
+    ("khaki", 0xf0e68c),
+    ("lavender", 0xe6e6fa),
+    ("lavenderblush", 0xfff0f5),
+    ("lawngreen", 0x7cfc00),
+    ("lemonchiffon", 0xfffacd),
+    ("lightblue", 0xadd8e6),
+    ("lightcoral", 0xf08080),
+    ("lightcyan", 0xe0ffff),
+    ("lightgoldenrodyellow", 0xfafad2),
+    ("lightgray", 0xd3d3d3),
+    ("lightgreen", 0x90ee90),
+    ("lightgrey", 0xd3d3d3),
+    ("lightpink", 0xffb6c1),
+    ("lightsalmon", 0xffa07a),
+    ("lightseagreen", 0x20b2aa),
+    ("lightskyblue", 0x87cefa),
+    ("lightslategray", 0x778899),
+    ("lightslategrey", 0x778899),
+    ("lightsteelblue", 0xb0c4de),
+    ("lightyellow", 0xffffe0),
+    ("lime", 0x00ff00),
+    ("limegreen", 0x32cd32),
+    ("linen", 0xfaf0e6),
+    ("magenta", 0xff00ff),
+    ("maroon", 0x800000),
+    ("mediumaquamarine", 0x66cdaa),
+    ("mediumblue", 0x0000cd),
+    ("mediumorchid", 0xba55d3),
+    ("mediumpurple", 0x9370db),
+    ("mediumseagreen", 0x3cb371),
+    ("mediumslateblue", 0x7b68ee),
+    ("mediumspringgreen", 0x00fa9a),
+    ("mediumturquoise", 0x48d1cc),
+    ("mediumvioletred", 0xc71585),
+    ("midnightblue", 0x191970),
+    ("mintcream", 0xf5fffa),
+    ("mistyrose", 0xffe4e1),
+    ("moccasin", 0xffe4b5),
+    ("navajowhite", 0xffdead),
+    ("navy", 0x000080),
+    ("oldlace", 0xfdf5e6),
+    ("olive", 0x808000),
+    ("olivedrab", 0x6b8e23),
+    ("orange", 0xffa500),
+    ("orangered", 0xff4500),
+    ("orchid", 0xda70d6),
+    ("palegoldenrod", 0xeee8aa),
+    ("palegreen", 0x98fb98),
+    ("paleturquoise", 0xafeeee),
+    ("palevioletred", 0xdb7093),
+    ("papayawhip", 0xffefd5),
+    ("peachpuff", 0xffdab9),
+    ("peru", 0xcd853f),
+    ("pink", 0xffc0cb),
+    ("plum", 0xdda0dd),
+    ("powderblue", 0xb0e0e6),
+    ("purple", 0x800080),
+    ("rebeccapurple", 0x663399),
+    ("red", 0xff0000),
+    ("rosybrown", 0xbc8f8f),
+    ("royalblue", 0x4169e1),
+    ("saddlebrown", 0x8b4513),
+    ("salmon", 0xfa8072),
+    ("sandybrown", 0xf4a460),
+    ("seagreen", 0x2e8b57),
+    ("seashell", 0xfff5ee),
+    ("sienna", 0xa0522d),
+    ("silver", 0xc0c0c0),
+    ("skyblue", 0x87ceeb),
+    ("slateblue", 0x6a5acd),
+    ("slategray", 0x708090),
+    ("slategrey", 0x708090),
+    ("snow", 0xfffafa),
+    ("springgreen", 0x00ff7f),
+    ("steelblue", 0x4682b4),
+    ("tan", 0xd2b48c),
+    ("teal", 0x008080),
+    ("thistle", 0xd8bfd8),
+    ("tomato", 0xff6347),
+    ("turquoise", 0x40e0d0),
+    ("violet", 0xee82ee),
+    ("wheat", 0xf5deb3),
+    ("white", 0xffffff),
+    ("whitesmoke", 0xf5f5f5),
+    ("yellow", 0xffff00),
+    ("yellowgreen", 0x9acd32),
+];
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::lang::ast::FileId;
+    use crate::lang::ast::Item;
+    use crate::lang::parser::parse;
+
+    fn eval(src: &str) -> Result<Value, Vec<Error>> {
+        let Item::Let { value, .. } = parse(&format!("let v = {src}"), FileId(0))
+            .unwrap()
+            .remove(0)
+        else {
+            panic!()
+        };
+        let env = Env::new(Transfer::Gamma(2.0));
+        let mut errors = Vec::new();
+        env.eval(&value, &mut errors).ok_or(errors)
+    }
+
+    #[test]
+    fn colour_table_is_sorted_and_has_148_names() {
+        assert!(COLOURS.windows(2).all(|w| w[0].0 < w[1].0));
+        assert_eq!(COLOURS.len(), 148);
+        assert_eq!(named_colour("green"), Some([0, 128, 0]));
+    }
+
+    #[test]
+    fn arithmetic() {
+        assert_eq!(eval("-2^2"), Ok(Value::Number(-4.0)));
+        assert_eq!(eval("2 * pi / pi"), Ok(Value::Number(2.0)));
+        assert_eq!(
+            eval("<1, 2, 3> * 2 - <1, 1, 1>"),
+            Ok(Value::Vector(vec![1.0, 3.0, 5.0]))
+        );
+        assert_eq!(eval("max(1, sqrt(9))"), Ok(Value::Number(3.0)));
+        assert_eq!(eval("deg(rad(90))"), Ok(Value::Number(90.0)));
+    }
+
+    #[test]
+    fn conditions_remainders_lists_and_indices() {
+        assert_eq!(eval("7 % 3"), Ok(Value::Number(1.0)));
+        assert_eq!(eval("-1 % 12"), Ok(Value::Number(11.0)));
+        assert_eq!(eval("1 + 2 == 3 and not (2 < 1)"), Ok(Value::Bool(true)));
+        assert_eq!(
+            eval("1 >= 2 or <1, 2, 3> != <1, 2, 3>"),
+            Ok(Value::Bool(false))
+        );
+        assert_eq!(eval("[1, 2] + [3]"), eval("[1, 2, 3]"));
+        assert_eq!(eval("[<1, 2, 3>][0][2]"), Ok(Value::Number(3.0)));
+        assert_eq!(eval("len([1, 2, 3])"), Ok(Value::Number(3.0)));
+        assert_eq!(
+            eval("lerp(<0, 0, 0>, <2, 4, 6>, 0.5)"),
+            Ok(Value::Vector(vec![1.0, 2.0, 3.0]))
+        );
+        // `and` stops early: the index out of range is never evaluated.
+        assert_eq!(eval("1 > 2 and [1][5] == 0"), Ok(Value::Bool(false)));
+        let e = eval("[1, 2][2]").unwrap_err();
+        assert_eq!(e[0].message, "index 2 is out of range");
+        assert_eq!(e[0].label, "the list has 2 elements");
+        let e = eval("5 % 0").unwrap_err();
+        assert_eq!(e[0].message, "division by zero");
+        let e = eval("1 < <1, 2, 3>").unwrap_err();
+        assert!(
+            e[0].message.starts_with("cannot compare"),
+            "{}",
+            e[0].message
+        );
+        let e = eval("not 1").unwrap_err();
+        assert!(e[0].message.contains("needs a condition"));
+    }
+
+    #[test]
+    fn vector_built_ins() {
+        assert_eq!(eval("dot(<1, 2, 3>, <4, 5, 6>)"), Ok(Value::Number(32.0)));
+        assert_eq!(
+            eval("cross(<0, 1, 0>, <0, 0, 1>)"),
+            Ok(Value::Vector(vec![1.0, 0.0, 0.0]))
+        );
+        assert_eq!(eval("length(<2, 3, 6>)"), Ok(Value::Number(7.0)));
+        assert!(eval("normalize(<0, 0, 0>)").is_err());
+        assert!(
+            eval("dot(1, <1, 2, 3>)").unwrap_err()[0]
+                .message
+                .contains("needs a 3-vector")
+        );
+        assert_eq!(eval("clamp(5, 0, 1)"), Ok(Value::Number(1.0)));
+        assert_eq!(
+            eval("atan2(1, 0) * 2"),
+            Ok(Value::Number(std::f64::consts::PI))
+        );
+    }
+
+    #[test]
+    fn hex_and_named_colours_decode_with_the_transfer() {
+        // gamma 2: display 128/255 decodes by squaring.
+        let g = (128.0f64 / 255.0).powi(2);
+        assert_eq!(eval("#008000"), Ok(Value::Colour(Colour::new(0.0, g, 0.0))));
+        assert_eq!(eval("green"), Ok(Value::Colour(Colour::new(0.0, g, 0.0))));
+        assert_eq!(
+            eval("rgb(0, 0.5, 0)"),
+            Ok(Value::Colour(Colour::new(0.0, 0.5, 0.0)))
+        );
+    }
+
+    #[test]
+    fn mistakes_point_at_their_characters() {
+        let e = eval("1 / 0").unwrap_err();
+        assert_eq!(e[0].message, "division by zero");
+        let e = eval("sqrt(-1)").unwrap_err();
+        assert_eq!((e[0].span.start, e[0].span.end), (13, 15));
+        let e = eval("sqr(2)").unwrap_err();
+        assert_eq!(e[0].help.as_deref(), Some("did you mean `sqrt`?"));
+        let e = eval("<1, 2> + <1, 2, 3>").unwrap_err();
+        assert!(
+            e[0].message.contains("cannot add a 2-vector to a 3-vector"),
+            "{}",
+            e[0].message
+        );
+        let e = eval("whte").unwrap_err();
+        assert_eq!(e[0].help.as_deref(), Some("did you mean `white`?"));
+        let e = eval("1e999").unwrap_err();
+        assert!(e[0].message.contains("too large"));
+        let e = eval("10 ^ 400").unwrap_err();
+        assert!(e[0].message.contains("finite"));
+    }
+}

@@ -1,0 +1,1357 @@
+//! Stage 2, EVALUATE: the parser's items → items the builder can read
+//! without knowing the language: every `let`, `fn`, `for` and `if` is
+//! gone, bound names carry their values ([`ExprKind::Bound`]), closed
+//! expressions are worked out ([`ExprKind::Value`]), loops are unrolled and
+//! calls expanded in place. Spans are kept, so later errors still point at
+//! the characters; items made by a loop iteration or a call are wrapped in
+//! [`Item::Traced`] so the builder can say which iteration or call.
+//!
+//! ```text
+//! let spoke = cylinder { radius 0.05  height 2 }     // a value made of items
+//! fn pillar(h, r = 0.3) { cylinder { radius r  height h } }
+//! fn bell(t) = exp(-t * t)
+//! for i in 0..12 { spoke { rotate z i * 30 } }       // a placement, shared
+//! if frame % 2 == 0 { pillar(1.5, r: 0.2) { translate <1, 0, 0> } }
+//! ```
+//!
+//! Runaway programs stop at [`Limits`], each named in its message.
+
+pub mod expr;
+
+use crate::lang::Program;
+use crate::lang::ast::{Block, Expr, ExprKind, FnBody, FnDef, ForSource, Item, Span, Spanned};
+use crate::lang::diagnostics::{Error, did_you_mean};
+use crate::scene::Transfer;
+use expr::{Fragment, Names, Value};
+use std::cell::{Cell, RefCell};
+use std::rc::Rc;
+use std::sync::Arc;
+
+/// Caps on the work a scene program may ask for.
+#[derive(Clone, Copy, Debug)]
+pub struct Limits {
+    /// Iterations of one loop.
+    pub iterations: u64,
+    /// Objects produced in all.
+    pub objects: u64,
+    /// Nested function calls.
+    pub depth: usize,
+    /// Evaluation steps (expressions and items) in all.
+    pub steps: u64,
+}
+
+impl Default for Limits {
+    fn default() -> Limits {
+        Limits {
+            iterations: 1_000_000,
+            objects: 10_000_000,
+            depth: 100,
+            steps: 200_000_000,
+        }
+    }
+}
+
+/// What comes from outside the scene file.
+#[derive(Clone, Debug, Default)]
+pub struct Options {
+    /// `-D NAME=VALUE`: replaces the value of the top-level `let NAME`.
+    pub defines: Vec<(String, Value)>,
+    /// `clock` (0..1 over an animation; 0 for a still).
+    pub clock: f64,
+    /// `frame` (0 for a still).
+    pub frame: f64,
+    pub limits: Limits,
+}
+
+/// The evaluated program.
+pub struct Evaluated {
+    pub items: Vec<Item>,
+    pub errors: Vec<Error>,
+    /// Every name bound anywhere, for the builder's suggestions.
+    pub known: Vec<String>,
+}
+
+/// Evaluates the program's items. `transfer` decodes `#rrggbb` and
+/// named colours.
+pub fn evaluate(program: &Program, transfer: Transfer, options: &Options) -> Evaluated {
+    let mut items = Vec::new();
+    let mut known = Vec::new();
+    let errors = evaluate_in_parts(program, transfer, options, |part, names| {
+        items.extend(part);
+        known = names.to_vec();
+    });
+    Evaluated {
+        items,
+        errors,
+        known,
+    }
+}
+
+/// As [`evaluate`], handing the items over in parts, each a run of whole
+/// statements, as soon as they are made: a loop's hundred thousand objects
+/// can be built and dropped before the next statement is evaluated. `sink`
+/// also gets the names bound so far and the error list.
+pub fn evaluate_in_parts(
+    program: &Program,
+    transfer: Transfer,
+    options: &Options,
+    mut sink: impl FnMut(Vec<Item>, &[String]),
+) -> Vec<Error> {
+    let ex = Expander {
+        program,
+        transfer,
+        options,
+        steps: Cell::new(0),
+        objects: Cell::new(0),
+        depth: Cell::new(0),
+        stopped: Cell::new(false),
+        context: RefCell::new(None),
+        known: RefCell::new(Vec::new()),
+        used_defines: RefCell::new(Vec::new()),
+    };
+    let root = Scope::root();
+    root.bind(
+        "clock",
+        Binding::Value(Some(Value::Number(options.clock))),
+        None,
+    );
+    root.bind(
+        "frame",
+        Binding::Value(Some(Value::Number(options.frame))),
+        None,
+    );
+    let mut errors = Vec::new();
+    // Statements never straddle a `let`, `fn`, `for` or `if`: those are
+    // where a part may end.
+    let boundary = |i: &Item| {
+        matches!(
+            i,
+            Item::Let { .. }
+                | Item::LetItems { .. }
+                | Item::Fn(_)
+                | Item::For { .. }
+                | Item::If { .. }
+        )
+    };
+    let items = &program.items;
+    let mut start = 0;
+    while start < items.len() {
+        let mut end = start + 1;
+        if !boundary(&items[start]) {
+            while end < items.len() && !boundary(&items[end]) {
+                end += 1;
+            }
+        }
+        if let Item::For {
+            var,
+            source,
+            body,
+            span,
+        } = &items[start]
+        {
+            // A top-level loop hands its objects over a few hundred
+            // iterations at a time.
+            let mut pending = Vec::new();
+            let mut emit = |it: Item| {
+                pending.push(it);
+                if pending.len() >= 256 {
+                    sink(std::mem::take(&mut pending), &ex.known.borrow());
+                }
+            };
+            if ex.step(items[start].span(), &mut errors) {
+                ex.for_loop(var, source, body, *span, &root, &mut emit, &mut errors);
+            }
+            if !pending.is_empty() {
+                sink(pending, &ex.known.borrow());
+            }
+            start = end;
+            continue;
+        }
+        let mut out = Vec::new();
+        ex.expand(&items[start..end], &root, true, &mut out, &mut errors);
+        if !out.is_empty() {
+            sink(out, &ex.known.borrow());
+        }
+        start = end;
+    }
+    let used = ex.used_defines.borrow();
+    for (name, _) in &options.defines {
+        if !used.contains(name) {
+            let lets: Vec<String> = program
+                .items
+                .iter()
+                .filter_map(|i| match i {
+                    Item::Let { name, .. } => Some(name.node.clone()),
+                    _ => None,
+                })
+                .collect();
+            let help = did_you_mean(name, lets.iter().map(String::as_str))
+                .unwrap_or_else(|| "`-D` replaces the value of a top-level `let`".into());
+            errors.push(
+                Error::new(
+                    Span::new(program.root, 0, 0),
+                    format!("`-D {name}`: the scene has no top-level `let {name}`"),
+                )
+                .label("nothing to replace")
+                .help(help),
+            );
+        }
+    }
+    errors
+}
+
+/// Parses and evaluates the value of `-D NAME=VALUE` (a number, vector,
+/// colour or list with no names but built-ins).
+pub fn define_value(text: &str) -> Result<Value, String> {
+    use crate::lang::ast::FileId;
+    let src = format!("let v = {text}");
+    let bad = || format!("`{text}` is not a value (write e.g. `2`, `<1, 2, 3>` or `rgb(1, 0, 0)`)");
+    let items = crate::lang::parser::parse(&src, FileId(0)).map_err(|_| bad())?;
+    let [Item::Let { value, .. }] = items.as_slice() else {
+        return Err(bad());
+    };
+    let env = expr::Env::new(Transfer::Srgb);
+    let mut errors = Vec::new();
+    env.eval(value, &mut errors)
+        .ok_or_else(|| match errors.first() {
+            Some(e) => format!("`{text}`: {}", e.message),
+            None => bad(),
+        })
+}
+
+// ---- scopes ----
+
+#[derive(Clone)]
+enum Binding {
+    /// `None` when its definition failed (already reported).
+    Value(Option<Value>),
+    /// A function and the scope it was declared in.
+    Function(Arc<FnDef>, Rc<Scope>),
+}
+
+/// One block's names; lookups go outwards. A block binds few names, so a
+/// list searched from the end is cheaper than a hash map (a loop makes one
+/// scope per iteration).
+struct Scope {
+    vars: RefCell<Vec<(String, Binding, Option<Span>)>>,
+    parent: Option<Rc<Scope>>,
+}
+
+impl Scope {
+    fn root() -> Rc<Scope> {
+        Rc::new(Scope {
+            vars: RefCell::new(Vec::new()),
+            parent: None,
+        })
+    }
+
+    fn child(self: &Rc<Scope>) -> Rc<Scope> {
+        Rc::new(Scope {
+            vars: RefCell::new(Vec::new()),
+            parent: Some(self.clone()),
+        })
+    }
+
+    fn bind(&self, name: &str, b: Binding, span: Option<Span>) {
+        self.vars.borrow_mut().push((name.to_string(), b, span));
+    }
+
+    fn get(&self, name: &str) -> Option<Binding> {
+        let mut s = Some(self);
+        while let Some(scope) = s {
+            if let Some((_, b, _)) = scope.vars.borrow().iter().rev().find(|(n, ..)| n == name) {
+                return Some(b.clone());
+            }
+            s = scope.parent.as_deref();
+        }
+        None
+    }
+
+    /// Where `name` was bound in this very scope, if it was.
+    fn here(&self, name: &str) -> Option<Option<Span>> {
+        self.vars
+            .borrow()
+            .iter()
+            .find(|(n, ..)| n == name)
+            .map(|(.., s)| *s)
+    }
+
+    /// Every name visible here (for suggestions).
+    fn names(&self) -> Vec<String> {
+        let mut v: Vec<String> = self.vars.borrow().iter().map(|(n, ..)| n.clone()).collect();
+        if let Some(p) = &self.parent {
+            v.extend(p.names());
+        }
+        v
+    }
+
+    /// The numbers visible here, for `implicit` equations (not `x`, `y`,
+    /// `z`: those are the equation's variables).
+    fn numbers(&self) -> Vec<(String, f64)> {
+        let mut out: Vec<(String, f64)> = Vec::new();
+        let mut s = Some(self);
+        while let Some(scope) = s {
+            for (k, b, _) in scope.vars.borrow().iter() {
+                if let Binding::Value(Some(Value::Number(v))) = b
+                    && !matches!(k.as_str(), "x" | "y" | "z")
+                    && !out.iter().any(|(n, _)| n == k)
+                {
+                    out.push((k.clone(), *v));
+                }
+            }
+            s = scope.parent.as_deref();
+        }
+        out
+    }
+}
+
+// ---- the expander ----
+
+struct Expander<'p> {
+    program: &'p Program,
+    transfer: Transfer,
+    options: &'p Options,
+    steps: Cell<u64>,
+    objects: Cell<u64>,
+    depth: Cell<usize>,
+    /// Set once a limit is hit: everything after is skipped.
+    stopped: Cell<bool>,
+    /// The loop iteration or call being evaluated (innermost), if any.
+    context: RefCell<Option<Arc<Trace>>>,
+    known: RefCell<Vec<String>>,
+    used_defines: RefCell<Vec<String>>,
+}
+
+/// Names as seen from one scope.
+struct At<'a, 'p> {
+    ex: &'a Expander<'p>,
+    scope: &'a Rc<Scope>,
+}
+
+impl Names for At<'_, '_> {
+    fn transfer(&self) -> Transfer {
+        self.ex.transfer
+    }
+
+    fn lookup(&self, name: &str) -> Option<Option<Value>> {
+        match self.scope.get(name)? {
+            Binding::Value(v) => Some(v),
+            Binding::Function(..) => None,
+        }
+    }
+
+    fn call(&self, call: &Expr, errors: &mut Vec<Error>) -> Option<Option<Value>> {
+        let ExprKind::Call { name, .. } = &call.kind else {
+            return None;
+        };
+        match self.scope.get(&name.node) {
+            Some(Binding::Function(def, home)) => {
+                Some(self.ex.call_value(&def, &home, call, self.scope, errors))
+            }
+            Some(Binding::Value(v)) => {
+                let what = v.map_or("a value".to_string(), |v| v.kind());
+                errors.push(
+                    Error::new(
+                        name.span,
+                        format!("`{}` is {what}, not a function", name.node),
+                    )
+                    .label("cannot be called"),
+                );
+                Some(None)
+            }
+            None => None,
+        }
+    }
+
+    fn unknown(&self, n: &str, span: Span, errors: &mut Vec<Error>) {
+        let mut err = Error::new(span, format!("unknown name `{n}`")).label("not defined");
+        let later = self.ex.program.items.iter().find_map(|i| match i {
+            Item::Let { name, .. } | Item::LetItems { name, .. } if name.node == n => {
+                Some(name.span)
+            }
+            _ => None,
+        });
+        if let Some(def) = later {
+            err = err
+                .help(format!(
+                    "`{n}` is defined later; a constant can only be used after its `let`"
+                ))
+                .note(def, "defined here");
+        } else {
+            let names = self.scope.names();
+            let all = names
+                .iter()
+                .map(String::as_str)
+                .chain(["pi"])
+                .chain(expr::COLOURS.iter().map(|(c, _)| *c));
+            err = err.maybe_help(did_you_mean(n, all));
+        }
+        errors.push(err);
+    }
+
+    fn step(&self, span: Span, errors: &mut Vec<Error>) -> bool {
+        self.ex.step(span, errors)
+    }
+
+    fn functions(&self) -> Vec<String> {
+        self.scope
+            .names()
+            .into_iter()
+            .filter(|n| matches!(self.scope.get(n), Some(Binding::Function(..))))
+            .collect()
+    }
+}
+
+impl<'p> Expander<'p> {
+    fn at<'a>(&'a self, scope: &'a Rc<Scope>) -> At<'a, 'p> {
+        At { ex: self, scope }
+    }
+
+    fn step(&self, span: Span, errors: &mut Vec<Error>) -> bool {
+        if self.stopped.get() {
+            return false;
+        }
+        let n = self.steps.get() + 1;
+        self.steps.set(n);
+        if n > self.options.limits.steps {
+            self.stop(
+                errors,
+                Error::new(
+                    span,
+                    format!(
+                        "the scene program ran for more than {} evaluation steps",
+                        self.options.limits.steps
+                    ),
+                )
+                .label("still running here")
+                .help("look for a loop or recursion that does more than meant, or raise the limit with `--max-steps N`"),
+            );
+            return false;
+        }
+        true
+    }
+
+    /// Reports a limit once and stops all further evaluation.
+    fn stop(&self, errors: &mut Vec<Error>, e: Error) {
+        if !self.stopped.replace(true) {
+            errors.push(self.traced(e));
+        }
+    }
+
+    /// Adds the loop iterations and calls the error is inside.
+    fn traced(&self, mut e: Error) -> Error {
+        let Some(t) = self.context.borrow().clone() else {
+            return e;
+        };
+        let lines = t.lines(&self.program.sources);
+        if e.help
+            .as_deref()
+            .is_some_and(|h| h.contains(lines[0].as_str()))
+        {
+            return e;
+        }
+        let trail = trail(&lines);
+        e.help = Some(match e.help {
+            Some(h) => format!("{h}\n{trail}"),
+            None => trail,
+        });
+        e
+    }
+
+    /// Enters a loop iteration or call (for messages); returns the trace
+    /// that items made inside carry.
+    fn push(&self, frame: Frame) -> Arc<Trace> {
+        let mut ctx = self.context.borrow_mut();
+        let t = Arc::new(Trace {
+            frame,
+            parent: ctx.take(),
+        });
+        *ctx = Some(t.clone());
+        t
+    }
+
+    fn pop(&self) {
+        let mut ctx = self.context.borrow_mut();
+        *ctx = ctx.as_ref().and_then(|t| t.parent.clone());
+    }
+
+    fn count_object(&self, span: Span, errors: &mut Vec<Error>) -> bool {
+        let n = self.objects.get() + 1;
+        self.objects.set(n);
+        if n > self.options.limits.objects {
+            self.stop(
+                errors,
+                Error::new(
+                    span,
+                    format!(
+                        "the scene makes more than {} objects",
+                        self.options.limits.objects
+                    ),
+                )
+                .label("one too many")
+                .help("raise the limit with `--max-objects N` if this is meant"),
+            );
+            return false;
+        }
+        true
+    }
+
+    fn remember(&self, name: &str) {
+        let mut k = self.known.borrow_mut();
+        if !k.iter().any(|n| n == name) {
+            k.push(name.to_string());
+        }
+    }
+
+    /// Checks a new name for the current scope; false (reported) when it
+    /// may not be bound.
+    fn may_bind(&self, name: &Spanned<String>, scope: &Rc<Scope>, errors: &mut Vec<Error>) -> bool {
+        if expr::is_reserved(&name.node) {
+            errors.push(
+                Error::new(name.span, format!("`{}` is a built-in name", name.node))
+                    .label("cannot be redefined")
+                    .help("choose another name for the constant"),
+            );
+            return false;
+        }
+        if let Some(first) = scope.here(&name.node) {
+            let mut e = Error::new(name.span, format!("`{}` is already defined", name.node))
+                .label("defined again here")
+                .help("a constant can only be defined once");
+            if let Some(f) = first {
+                e = e.note(f, "first defined here");
+            }
+            errors.push(e);
+            return false;
+        }
+        self.remember(&name.node);
+        true
+    }
+
+    /// Expands `items` in `scope`, appending to `out`.
+    fn expand(
+        &self,
+        items: &[Item],
+        scope: &Rc<Scope>,
+        top: bool,
+        out: &mut Vec<Item>,
+        errors: &mut Vec<Error>,
+    ) {
+        let mut i = 0;
+        while i < items.len() {
+            if self.stopped.get() {
+                return;
+            }
+            let item = &items[i];
+            i += 1;
+            if !self.step(item.span(), errors) {
+                return;
+            }
+            match item {
+                Item::Let { name, value, .. } => {
+                    if !self.may_bind(name, scope, errors) {
+                        continue;
+                    }
+                    let define = top
+                        .then(|| self.options.defines.iter().find(|(n, _)| *n == name.node))
+                        .flatten();
+                    let v = match define {
+                        Some((n, v)) => {
+                            self.used_defines.borrow_mut().push(n.clone());
+                            Some(v.clone())
+                        }
+                        None => self.value(value, scope, errors),
+                    };
+                    scope.bind(&name.node, Binding::Value(v), Some(name.span));
+                }
+                Item::LetItems {
+                    name, items: body, ..
+                } => {
+                    if !self.may_bind(name, scope, errors) {
+                        continue;
+                    }
+                    let mut made = Vec::new();
+                    let before = errors.len();
+                    self.expand(body, &scope.child(), false, &mut made, errors);
+                    let v = (errors.len() == before).then(|| {
+                        Value::Items(Arc::new(Fragment {
+                            items: made,
+                            span: name.span,
+                        }))
+                    });
+                    scope.bind(&name.node, Binding::Value(v), Some(name.span));
+                }
+                Item::Fn(def) => {
+                    if !self.may_bind(&def.name, scope, errors) {
+                        continue;
+                    }
+                    for p in &def.params {
+                        self.remember(&p.name.node);
+                    }
+                    scope.bind(
+                        &def.name.node,
+                        Binding::Function(def.clone(), scope.clone()),
+                        Some(def.name.span),
+                    );
+                }
+                Item::For {
+                    var,
+                    source,
+                    body,
+                    span,
+                } => self.for_loop(
+                    var,
+                    source,
+                    body,
+                    *span,
+                    scope,
+                    &mut |it| out.push(it),
+                    errors,
+                ),
+                Item::If {
+                    cond,
+                    then,
+                    otherwise,
+                    ..
+                } => {
+                    let mut branch = Some(item);
+                    let mut chosen: Option<&Block> = None;
+                    let _ = (cond, then, otherwise);
+                    while let Some(Item::If {
+                        cond,
+                        then,
+                        otherwise,
+                        ..
+                    }) = branch
+                    {
+                        match expr::condition(&self.at(scope), cond, errors) {
+                            Some(true) => {
+                                chosen = Some(then);
+                                break;
+                            }
+                            Some(false) => match otherwise.as_deref() {
+                                Some(Item::Block(b)) => {
+                                    chosen = Some(b);
+                                    break;
+                                }
+                                other => branch = other,
+                            },
+                            None => break,
+                        }
+                    }
+                    if let Some(b) = chosen {
+                        self.expand(&b.items, &scope.child(), false, out, errors);
+                    }
+                }
+                Item::Block(b) => {
+                    let mut inner = Vec::with_capacity(b.items.len());
+                    self.expand(&b.items, &scope.child(), false, &mut inner, errors);
+                    out.push(Item::Block(Block {
+                        items: inner,
+                        span: b.span,
+                    }));
+                }
+                Item::Str {
+                    text,
+                    span,
+                    content,
+                    ..
+                } => {
+                    let implicit =
+                        i >= 2 && items[i - 2].as_name().is_some_and(|n| n.node == "implicit");
+                    out.push(Item::Str {
+                        text: text.clone(),
+                        span: *span,
+                        content: *content,
+                        constants: implicit.then(|| Arc::new(scope.numbers())),
+                    });
+                }
+                Item::List(l) => {
+                    let node = l
+                        .node
+                        .iter()
+                        .map(|e| self.resolve(e, scope, errors))
+                        .collect();
+                    out.push(Item::List(Spanned::new(node, l.span)));
+                }
+                Item::Value(e) => {
+                    let next_block = match items.get(i) {
+                        Some(Item::Block(b)) => Some(b),
+                        _ => None,
+                    };
+                    match self.value_item(e, next_block, scope, out, errors) {
+                        Placed::UsedBlock => i += 1,
+                        Placed::Done => {}
+                    }
+                }
+                Item::Include { .. } | Item::Traced { .. } => out.push(item.clone()),
+            }
+        }
+    }
+
+    /// A name or expression among items: a placement of an object value or
+    /// a call of an object function (taking the block after it), or a value.
+    fn value_item(
+        &self,
+        e: &Expr,
+        next_block: Option<&Block>,
+        scope: &Rc<Scope>,
+        out: &mut Vec<Item>,
+        errors: &mut Vec<Error>,
+    ) -> Placed {
+        match &e.kind {
+            ExprKind::Name(n) => match scope.get(n) {
+                Some(Binding::Value(Some(Value::Items(frag))))
+                    if next_block.is_some()
+                        || !after_name(out)
+                        || !crate::scene::is_object(frag.head()) =>
+                {
+                    if !self.count_object(e.span, errors) {
+                        return Placed::Done;
+                    }
+                    if crate::scene::is_object(frag.head()) {
+                        // Built once by the builder, shared by every
+                        // placement: the value, then the placement's block
+                        // (empty when none is written).
+                        let mut placement = Vec::new();
+                        let span = match next_block {
+                            Some(b) => {
+                                self.expand(
+                                    &b.items,
+                                    &scope.child(),
+                                    false,
+                                    &mut placement,
+                                    errors,
+                                );
+                                b.span
+                            }
+                            None => e.span,
+                        };
+                        out.push(Item::Value(Expr {
+                            kind: ExprKind::Bound(n.clone(), Some(Value::Items(frag.clone()))),
+                            span: e.span,
+                        }));
+                        out.push(Item::Block(Block {
+                            items: placement,
+                            span,
+                        }));
+                        return if next_block.is_some() {
+                            Placed::UsedBlock
+                        } else {
+                            Placed::Done
+                        };
+                    }
+                    let name = Spanned::new(n.clone(), e.span);
+                    return self.place(
+                        &name,
+                        &frag.items,
+                        !frag.is_material() && crate::scene::is_object(frag.head()),
+                        next_block,
+                        scope,
+                        out,
+                        errors,
+                        &frag,
+                    );
+                }
+                Some(Binding::Value(v)) => {
+                    out.push(Item::Value(Expr {
+                        kind: ExprKind::Bound(n.clone(), v),
+                        span: e.span,
+                    }));
+                    return Placed::Done;
+                }
+                Some(Binding::Function(def, _)) => {
+                    errors.push(
+                        self.traced(
+                            Error::new(e.span, format!("`{n}` is a function"))
+                                .label("not called")
+                                .help(format!(
+                                    "call it with its arguments: `{n}({})`",
+                                    def.params
+                                        .iter()
+                                        .map(|p| p.name.node.as_str())
+                                        .collect::<Vec<_>>()
+                                        .join(", ")
+                                )),
+                        ),
+                    );
+                    return Placed::Done;
+                }
+                None => {
+                    if crate::scene::is_object(n) && !self.count_object(e.span, errors) {
+                        return Placed::Done;
+                    }
+                }
+            },
+            ExprKind::Call { name, .. } => {
+                if let Some(Binding::Function(def, home)) = scope.get(&name.node)
+                    && let FnBody::Items(_) = def.body
+                {
+                    if !self.count_object(e.span, errors) {
+                        return Placed::Done;
+                    }
+                    let made = self.call_items(&def, &home, e, scope, errors);
+                    let Some(made) = made else {
+                        // Reported; the block after the call goes with it.
+                        return if next_block.is_some() {
+                            Placed::UsedBlock
+                        } else {
+                            Placed::Done
+                        };
+                    };
+                    let name = Spanned::new(name.node.clone(), e.span);
+                    let frag = Fragment {
+                        items: made,
+                        span: e.span,
+                    };
+                    return self.place(
+                        &name,
+                        &frag.items,
+                        true,
+                        next_block,
+                        scope,
+                        out,
+                        errors,
+                        &frag,
+                    );
+                }
+            }
+            _ => {}
+        }
+        let value = self.resolve(e, scope, errors);
+        if matches!(&value.kind, ExprKind::Bound(n, None) if n.is_empty()) && !after_name(out) {
+            // A statement-level value that failed (reported): drop it, and
+            // the block of a failed call with it, rather than have the
+            // builder report "expected a statement" as well.
+            let call = matches!(e.kind, ExprKind::Call { .. });
+            return if call && next_block.is_some() {
+                Placed::UsedBlock
+            } else {
+                Placed::Done
+            };
+        }
+        out.push(Item::Value(value));
+        Placed::Done
+    }
+
+    /// Puts an object value (or a call's objects) where it is used; with a
+    /// block after it, inside a `group` that takes the block's transforms
+    /// and material.
+    #[allow(clippy::too_many_arguments)]
+    fn place(
+        &self,
+        name: &Spanned<String>,
+        items: &[Item],
+        object: bool,
+        next_block: Option<&Block>,
+        scope: &Rc<Scope>,
+        out: &mut Vec<Item>,
+        errors: &mut Vec<Error>,
+        frag: &Fragment,
+    ) -> Placed {
+        if let Some(b) = next_block.filter(|_| object) {
+            let mut inner = items.to_vec();
+            self.expand(&b.items, &scope.child(), false, &mut inner, errors);
+            out.push(Item::Value(Expr {
+                kind: ExprKind::Name("group".into()),
+                span: name.span,
+            }));
+            out.push(Item::Block(Block {
+                items: inner,
+                span: b.span,
+            }));
+            return Placed::UsedBlock;
+        }
+        if frag.is_material() && items.len() == 2 {
+            // `material m` where `let m = material { … }`: the block.
+            out.push(items[1].clone());
+        } else {
+            out.extend(items.iter().cloned());
+        }
+        Placed::Done
+    }
+
+    /// Evaluates an expression that must give a value now (`let`, a loop's
+    /// range, an argument).
+    fn value(&self, e: &Expr, scope: &Rc<Scope>, errors: &mut Vec<Error>) -> Option<Value> {
+        let before = errors.len();
+        let v = expr::eval(&self.at(scope), e, errors);
+        for err in &mut errors[before..] {
+            *err = self.traced(err.clone());
+        }
+        v
+    }
+
+    /// An expression among items: worked out when everything it names is
+    /// known here, otherwise its bound names are filled in and the rest is
+    /// left to the builder (which knows its keywords and materials).
+    fn resolve(&self, e: &Expr, scope: &Rc<Scope>, errors: &mut Vec<Error>) -> Expr {
+        let at = self.at(scope);
+        // Literals and bare names need no working out (a bare name may be a
+        // keyword of the builder's); test that first, it is the common case.
+        let simple = matches!(
+            e.kind,
+            ExprKind::Number(_) | ExprKind::Hex(_) | ExprKind::Name(_)
+        );
+        if !simple && expr::is_closed(&at, e) {
+            let v = self.value(e, scope, errors);
+            return Expr {
+                kind: match v {
+                    Some(v) => ExprKind::Value(v),
+                    None => ExprKind::Bound(String::new(), None),
+                },
+                span: e.span,
+            };
+        }
+        let kind = match &e.kind {
+            ExprKind::Name(n) => match scope.get(n) {
+                Some(Binding::Value(v)) => ExprKind::Bound(n.clone(), v),
+                _ => e.kind.clone(),
+            },
+            ExprKind::Vector(v) => {
+                ExprKind::Vector(v.iter().map(|p| self.resolve(p, scope, errors)).collect())
+            }
+            ExprKind::List(v) => {
+                ExprKind::List(v.iter().map(|p| self.resolve(p, scope, errors)).collect())
+            }
+            ExprKind::Call { name, args, named } => ExprKind::Call {
+                name: name.clone(),
+                args: args
+                    .iter()
+                    .map(|p| self.resolve(p, scope, errors))
+                    .collect(),
+                named: named
+                    .iter()
+                    .map(|(n, p)| (n.clone(), self.resolve(p, scope, errors)))
+                    .collect(),
+            },
+            ExprKind::Neg(x) => ExprKind::Neg(Box::new(self.resolve(x, scope, errors))),
+            ExprKind::Not(x) => ExprKind::Not(Box::new(self.resolve(x, scope, errors))),
+            ExprKind::Binary { op, lhs, rhs } => ExprKind::Binary {
+                op: *op,
+                lhs: Box::new(self.resolve(lhs, scope, errors)),
+                rhs: Box::new(self.resolve(rhs, scope, errors)),
+            },
+            ExprKind::Index { base, index } => ExprKind::Index {
+                base: Box::new(self.resolve(base, scope, errors)),
+                index: Box::new(self.resolve(index, scope, errors)),
+            },
+            k => k.clone(),
+        };
+        Expr { kind, span: e.span }
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn for_loop(
+        &self,
+        var: &Spanned<String>,
+        source: &ForSource,
+        body: &Block,
+        span: Span,
+        scope: &Rc<Scope>,
+        out: &mut dyn FnMut(Item),
+        errors: &mut Vec<Error>,
+    ) {
+        if expr::is_reserved(&var.node) && !matches!(var.node.as_str(), "x" | "y" | "z") {
+            errors.push(
+                self.traced(
+                    Error::new(var.span, format!("`{}` is a built-in name", var.node))
+                        .label("cannot be a loop variable")
+                        .help("choose another name"),
+                ),
+            );
+            return;
+        }
+        self.remember(&var.node);
+        let limit = self.options.limits.iterations;
+        let too_many = |n: f64, at: Span| {
+            Error::new(
+                at,
+                format!("this loop would run {n} times; the limit is {limit}"),
+            )
+            .label("too many iterations")
+            .help("raise the limit with `--max-iterations N` if this is meant")
+        };
+        let values: Vec<Value> = match source {
+            ForSource::Range {
+                from,
+                to,
+                inclusive,
+                step,
+            } => {
+                let num = |e: &Expr, errors: &mut Vec<Error>| match self.value(e, scope, errors)? {
+                    Value::Number(v) => Some(v),
+                    other => {
+                        errors.push(
+                            self.traced(
+                                Error::new(
+                                    e.span,
+                                    format!("a range needs numbers, found {}", other.kind()),
+                                )
+                                .label(format!("this is {}", other.kind())),
+                            ),
+                        );
+                        None
+                    }
+                };
+                let a = num(from, errors);
+                let b = num(to, errors);
+                let s = match step {
+                    Some(s) => num(s, errors),
+                    None => Some(1.0),
+                };
+                let (Some(a), Some(b), Some(s)) = (a, b, s) else {
+                    return;
+                };
+                if s == 0.0 {
+                    let at = step.as_ref().map_or(span, |e| e.span);
+                    errors.push(self.traced(
+                        Error::new(at, "a loop's step cannot be 0").label("step 0 never ends"),
+                    ));
+                    return;
+                }
+                // Counted in whole steps, each value a + k·s, so a long
+                // loop does not drift.
+                let span_len = (b - a) / s;
+                let n = if span_len < 0.0 {
+                    0.0
+                } else {
+                    let whole = span_len.floor();
+                    if *inclusive || whole < span_len {
+                        whole + 1.0
+                    } else {
+                        whole
+                    }
+                };
+                if n > limit as f64 {
+                    errors.push(self.traced(too_many(n, from.span.to(to.span))));
+                    return;
+                }
+                (0..n as u64)
+                    .map(|k| Value::Number(a + k as f64 * s))
+                    .collect()
+            }
+            ForSource::Each(e) => match self.value(e, scope, errors) {
+                Some(Value::List(l)) => {
+                    if l.len() as u64 > limit {
+                        errors.push(self.traced(too_many(l.len() as f64, e.span)));
+                        return;
+                    }
+                    l.as_ref().clone()
+                }
+                Some(other) => {
+                    errors.push(
+                        self.traced(
+                            Error::new(e.span, format!("cannot loop over {}", other.kind()))
+                                .label(format!("this is {}", other.kind()))
+                                .help("loop over a range `0..n` or a list `[a, b, c]`"),
+                        ),
+                    );
+                    return;
+                }
+                None => return,
+            },
+        };
+        for v in values {
+            if self.stopped.get() {
+                return;
+            }
+            let inner = scope.child();
+            let trace = self.push(Frame::Loop {
+                var: var.node.clone(),
+                value: v.clone(),
+                at: span,
+            });
+            inner.bind(&var.node, Binding::Value(Some(v)), Some(var.span));
+            let before = errors.len();
+            let mut made = Vec::new();
+            self.expand(&body.items, &inner, false, &mut made, errors);
+            self.pop();
+            if !made.is_empty() {
+                out(Item::Traced { trace, items: made });
+            }
+            if errors.len() > before {
+                // One report for a mistake, not one per iteration.
+                return;
+            }
+        }
+    }
+
+    /// Binds a call's arguments to the function's parameters in a new
+    /// scope inside the function's own; `None` when they do not fit
+    /// (reported).
+    fn bind_args(
+        &self,
+        def: &FnDef,
+        home: &Rc<Scope>,
+        call: &Expr,
+        caller: &Rc<Scope>,
+        errors: &mut Vec<Error>,
+    ) -> Option<(Rc<Scope>, Frame)> {
+        let ExprKind::Call { name, args, named } = &call.kind else {
+            return None;
+        };
+        let before = errors.len();
+        let mut given: Vec<Option<Value>> = vec![None; def.params.len()];
+        let mut ok = true;
+        if args.len() > def.params.len() {
+            errors.push(
+                self.traced(
+                    Error::new(
+                        args[def.params.len()].span,
+                        format!(
+                            "`{}` takes {} argument{}, not {}",
+                            name.node,
+                            def.params.len(),
+                            if def.params.len() == 1 { "" } else { "s" },
+                            args.len()
+                        ),
+                    )
+                    .label("one too many")
+                    .note(def.name.span, "declared here"),
+                ),
+            );
+            return None;
+        }
+        for (k, a) in args.iter().enumerate() {
+            match self.value(a, caller, errors) {
+                Some(v) => given[k] = Some(v),
+                None => ok = false,
+            }
+        }
+        for (n, a) in named {
+            let Some(k) = def.params.iter().position(|p| p.name.node == n.node) else {
+                let names = def.params.iter().map(|p| p.name.node.as_str());
+                errors.push(
+                    self.traced(
+                        Error::new(
+                            n.span,
+                            format!("`{}` has no parameter `{}`", name.node, n.node),
+                        )
+                        .label("unknown parameter")
+                        .help(did_you_mean(&n.node, names).unwrap_or_else(|| {
+                            format!(
+                                "its parameters are {}",
+                                def.params
+                                    .iter()
+                                    .map(|p| format!("`{}`", p.name.node))
+                                    .collect::<Vec<_>>()
+                                    .join(", ")
+                            )
+                        }))
+                        .note(def.name.span, "declared here"),
+                    ),
+                );
+                ok = false;
+                continue;
+            };
+            if given[k].is_some() || k < args.len() {
+                errors.push(
+                    self.traced(
+                        Error::new(n.span, format!("`{}` is given twice", n.node))
+                            .label("given again")
+                            .help("give each parameter once, by position or by name"),
+                    ),
+                );
+                ok = false;
+                continue;
+            }
+            match self.value(a, caller, errors) {
+                Some(v) => given[k] = Some(v),
+                None => ok = false,
+            }
+        }
+        if !ok || errors.len() > before {
+            return None;
+        }
+        let scope = home.child();
+        let mut shown = Vec::new();
+        for (p, v) in def.params.iter().zip(given) {
+            let v = match (v, &p.default) {
+                (Some(v), _) => v,
+                (None, Some(d)) => self.value(d, &scope, errors)?,
+                (None, None) => {
+                    errors.push(
+                        self.traced(
+                            Error::new(
+                                call.span,
+                                format!("`{}` needs `{}`", name.node, p.name.node),
+                            )
+                            .label(format!("no `{}` given", p.name.node))
+                            .note(p.name.span, "declared here without a default"),
+                        ),
+                    );
+                    return None;
+                }
+            };
+            shown.push((p.name.node.clone(), v.clone()));
+            scope.bind(&p.name.node, Binding::Value(Some(v)), Some(p.name.span));
+        }
+        Some((
+            scope,
+            Frame::Call {
+                name: name.node.clone(),
+                at: call.span,
+                args: shown,
+            },
+        ))
+    }
+
+    fn enter(&self, call: &Expr, errors: &mut Vec<Error>) -> bool {
+        let d = self.depth.get() + 1;
+        if d > self.options.limits.depth {
+            self.stop(
+                errors,
+                Error::new(
+                    call.span,
+                    format!(
+                        "function calls nest more than {} deep",
+                        self.options.limits.depth
+                    ),
+                )
+                .label("one call too deep")
+                .help("a recursive function needs a case that stops it; raise the limit with `--max-recursion N` if this is meant"),
+            );
+            return false;
+        }
+        self.depth.set(d);
+        true
+    }
+
+    /// A call of a function of numbers (`fn bell(t) = …`).
+    fn call_value(
+        &self,
+        def: &FnDef,
+        home: &Rc<Scope>,
+        call: &Expr,
+        caller: &Rc<Scope>,
+        errors: &mut Vec<Error>,
+    ) -> Option<Value> {
+        let FnBody::Expr(body) = &def.body else {
+            errors.push(
+                self.traced(
+                    Error::new(
+                        call.span,
+                        format!("`{}` makes objects, not a value", def.name.node),
+                    )
+                    .label("used as a value")
+                    .help("place it among objects: `name(…) { translate … }`")
+                    .note(def.name.span, "declared here"),
+                ),
+            );
+            return None;
+        };
+        let (scope, line) = self.bind_args(def, home, call, caller, errors)?;
+        if !self.enter(call, errors) {
+            return None;
+        }
+        self.push(line);
+        let v = self.value(body, &scope, errors);
+        self.pop();
+        self.depth.set(self.depth.get() - 1);
+        v
+    }
+
+    /// A call of a function of objects: its items, wrapped to say which call.
+    fn call_items(
+        &self,
+        def: &FnDef,
+        home: &Rc<Scope>,
+        call: &Expr,
+        caller: &Rc<Scope>,
+        errors: &mut Vec<Error>,
+    ) -> Option<Vec<Item>> {
+        let FnBody::Items(body) = &def.body else {
+            return None;
+        };
+        let (scope, line) = self.bind_args(def, home, call, caller, errors)?;
+        if !self.enter(call, errors) {
+            return None;
+        }
+        let trace = self.push(line);
+        let mut made = Vec::new();
+        self.expand(&body.items, &scope, false, &mut made, errors);
+        self.pop();
+        self.depth.set(self.depth.get() - 1);
+        Some(vec![Item::Traced { trace, items: made }])
+    }
+}
+
+/// Where generated items came from: loop iterations and calls, innermost
+/// first, put into words only when a message needs them.
+#[derive(Debug, PartialEq)]
+pub struct Trace {
+    frame: Frame,
+    parent: Option<Arc<Trace>>,
+}
+
+#[derive(Debug, PartialEq)]
+enum Frame {
+    Loop {
+        var: String,
+        value: Value,
+        at: Span,
+    },
+    Call {
+        name: String,
+        at: Span,
+        args: Vec<(String, Value)>,
+    },
+}
+
+impl Trace {
+    /// "in iteration i = 7 of the loop at scene.rt:9:1", "in `pillar`
+    /// called from scene.rt:14:5 with h = 1.7", innermost first.
+    pub fn lines(&self, sources: &crate::lang::source::Sources) -> Vec<String> {
+        let mut out = Vec::new();
+        let mut t = Some(self);
+        while let Some(trace) = t {
+            out.push(match &trace.frame {
+                Frame::Loop { var, value, at } => format!(
+                    "in iteration {var} = {} of the loop at {}",
+                    value.show(),
+                    sources.location(*at)
+                ),
+                Frame::Call { name, at, args } => {
+                    let mut line = format!("in `{name}` called from {}", sources.location(*at));
+                    if !args.is_empty() {
+                        let shown: Vec<String> = args
+                            .iter()
+                            .map(|(n, v)| format!("{n} = {}", v.show()))
+                            .collect();
+                        line.push_str(" with ");
+                        line.push_str(&shown.join(", "));
+                    }
+                    line
+                }
+            });
+            t = trace.parent.as_deref();
+        }
+        out
+    }
+}
+
+/// The lines of a trace (innermost first) as shown under a message: deep
+/// recursion keeps its innermost three and outermost two calls.
+pub fn trail(lines: &[String]) -> String {
+    if lines.len() <= 6 {
+        return lines.join("\n");
+    }
+    let n = lines.len();
+    let mut out: Vec<String> = lines[..3].to_vec();
+    out.push(format!("… {} more …", n - 5));
+    out.extend_from_slice(&lines[n - 2..]);
+    out.join("\n")
+}
+
+/// Whether the last item made is a name or string, so that what follows is
+/// its value (`radius b`) rather than a statement of its own.
+fn after_name(out: &[Item]) -> bool {
+    matches!(out.last(), Some(i) if i.as_name().is_some() || matches!(i, Item::Str { .. }))
+}
+
+enum Placed {
+    /// The block after the name was taken (a placement).
+    UsedBlock,
+    Done,
+}

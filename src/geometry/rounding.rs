@@ -1,0 +1,206 @@
+//! Rounding error and ray offsets: where a secondary ray may start so that
+//! it neither meets the surface it leaves nor starts on its far side.
+//!
+//! Every hit carries its point and a bound on that point's absolute error,
+//! per coordinate ([`crate::shapes::Hit::p_error`]), in the manner of
+//! pbrt-v4 ("Managing Rounding Error", `pError` and `OffsetRayOrigin`).
+//! The true surface lies within that box around the computed point, so a
+//! point moved along the geometric normal by the box's extent along the
+//! normal, `|n|·p_error`, and then one more ulp away from the surface in
+//! each coordinate, is on the chosen side whatever the rounding. The
+//! offset follows the hit's own error, not its distance from the origin:
+//! a scene keeps its contact shadows at any scale and anywhere.
+//!
+//! Error bounds use Higham's γₙ = n·u/(1 − n·u) (u = 2⁻⁵³), the bound on
+//! the relative error of n rounded operations.
+
+use glam::{DMat4, DVec3};
+
+/// γₙ: a bound on the relative error of `n` chained f64 operations.
+pub const fn gamma(n: u32) -> f64 {
+    let nu = n as f64 * (f64::EPSILON * 0.5);
+    nu / (1.0 - nu)
+}
+
+/// The next f64 above `x` (`x` itself for +∞ and NaN).
+pub fn next_up(x: f64) -> f64 {
+    if x.is_nan() || x == f64::INFINITY {
+        return x;
+    }
+    if x == 0.0 {
+        return f64::from_bits(1);
+    }
+    let b = x.to_bits();
+    f64::from_bits(if x > 0.0 { b + 1 } else { b - 1 })
+}
+
+/// The next f64 below `x`.
+pub fn next_down(x: f64) -> f64 {
+    -next_up(-x)
+}
+
+/// The start of a secondary ray leaving the hit point `p` along `dir`:
+/// `p` moved along the geometric normal `n_geo` (any length, either
+/// orientation) to the side `dir` goes to, far enough that the box of
+/// half-sizes `p_error` around `p` (which holds the true surface point) is
+/// left behind, then rounded one ulp further away in each coordinate.
+///
+/// The side is `dir`'s side of the *geometric* surface, never of a shading
+/// normal. With a zero normal (no surface) `p` comes back unchanged.
+pub fn offset_ray_origin(p: DVec3, p_error: DVec3, n_geo: DVec3, dir: DVec3) -> DVec3 {
+    let mut n = n_geo.normalize_or_zero();
+    if dir.dot(n) < 0.0 {
+        n = -n;
+    }
+    let mut po = p + n * n.abs().dot(p_error);
+    // Rounding `p + offset` may land back towards the surface, and a point
+    // with no error (snapped onto an axis-aligned face) would not move at
+    // all: step one ulp further away in every coordinate the normal has.
+    for i in 0..3 {
+        if n[i] > 0.0 {
+            po[i] = next_up(po[i]);
+        } else if n[i] < 0.0 {
+            po[i] = next_down(po[i]);
+        }
+    }
+    po
+}
+
+/// How much of the way to a target point a shadow ray may look: the far
+/// end is pulled in by this fraction (pbrt's `ShadowEpsilon`), so that a
+/// light lying on a surface (an area light's sample, later) is not hidden
+/// by that surface itself.
+pub const SHADOW_EPSILON: f64 = 1e-4;
+
+/// A shadow ray from a hit towards `target`: its origin (offset as
+/// [`offset_ray_origin`] does, to the target's side of the geometric
+/// surface), its unit direction, and how far along it an occluder counts:
+/// the distance to `target` less [`SHADOW_EPSILON`] of it.
+pub fn shadow_ray_to(p: DVec3, p_error: DVec3, n_geo: DVec3, target: DVec3) -> (DVec3, DVec3, f64) {
+    let origin = offset_ray_origin(p, p_error, n_geo, target - p);
+    let to = target - origin;
+    let dist = to.length();
+    (origin, to / dist, dist * (1.0 - SHADOW_EPSILON))
+}
+
+/// A point and its error bound moved by an affine matrix (pbrt-v4's
+/// `Transform::operator()(Point3fi)`): the error already there grows by
+/// the matrix's absolute value, and the product itself adds rounding of
+/// γ₃ times the magnitudes it sums.
+pub fn transform_point_error(m: &DMat4, p: DVec3, p_error: DVec3) -> (DVec3, DVec3) {
+    let abs = |v: glam::DVec4| v.abs().truncate();
+    let (c0, c1, c2, c3) = (abs(m.x_axis), abs(m.y_axis), abs(m.z_axis), abs(m.w_axis));
+    let mag = c0 * p.x.abs() + c1 * p.y.abs() + c2 * p.z.abs() + c3;
+    let carried = c0 * p_error.x + c1 * p_error.y + c2 * p_error.z;
+    let err = (gamma(3) + 1.0) * carried + gamma(3) * mag;
+    (m.transform_point3(p), err)
+}
+
+/// A shading normal that a mirror reflection may use: `ns` itself, unless
+/// the ray it reflects would go below the geometric surface (or closer to
+/// it than a small threshold), in which case `ns` is tilted towards `ng`
+/// just enough to lift the reflection to that threshold. This is Cycles'
+/// rule (`ensure_valid_specular_reflection`): the reflection may always be
+/// at least as shallow as the incoming ray, and never below the surface.
+///
+/// `ng`: unit geometric normal on the viewer's side; `wo`: unit direction
+/// towards the viewer (`wo·ng ≥ 0`); `ns`: unit shading normal.
+pub fn valid_reflection_normal(ng: DVec3, wo: DVec3, ns: DVec3) -> DVec3 {
+    let r = 2.0 * ns.dot(wo) * ns - wo;
+    let iz = wo.dot(ng);
+    let threshold = (0.9 * iz).min(0.01);
+    if ng.dot(r) >= threshold {
+        return ns;
+    }
+    // A frame with ng as z and ns in the x-z plane: find the tilt of ns
+    // that makes the reflection's z exactly the threshold.
+    let x = (ns - ns.dot(ng) * ng).try_normalize().unwrap_or(ns);
+    let ix = wo.dot(x);
+    let a = ix * ix + iz * iz;
+    let b = 2.0 * (a + iz * threshold);
+    let c = (threshold + iz) * (threshold + iz);
+    let root = (b * b - 4.0 * a * c).max(0.0).sqrt();
+    let nz2 = if ix < 0.0 {
+        0.25 * (b + root) / a
+    } else {
+        0.25 * (b - root) / a
+    };
+    let nx = (1.0 - nz2).max(0.0).sqrt();
+    let nz = nz2.max(0.0).sqrt();
+    nx * x + nz * ng
+}
+
+/// The mirror direction of `d` (travelling) about the unit normal `n`.
+pub fn reflect(d: DVec3, n: DVec3) -> DVec3 {
+    d - 2.0 * d.dot(n) * n
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn next_float_steps_one_ulp() {
+        assert!(next_up(1.0) > 1.0 && next_up(1.0) - 1.0 == f64::EPSILON);
+        assert!(next_down(1.0) < 1.0);
+        assert!(next_up(0.0) > 0.0 && next_down(0.0) < 0.0);
+        assert!(next_up(-1.0) > -1.0);
+    }
+
+    #[test]
+    fn offset_goes_to_the_side_of_the_direction_and_past_the_error() {
+        let p = DVec3::new(1e6, 2.0, -3.0);
+        let err = DVec3::splat(1e-9);
+        let n = DVec3::new(0.0, 2.0, 0.0);
+        let up = offset_ray_origin(p, err, n, DVec3::new(0.3, 1.0, 0.0));
+        let down = offset_ray_origin(p, err, n, DVec3::new(0.3, -1.0, 0.0));
+        assert!(up.y >= p.y + 1e-9 && up.y < p.y + 2e-9, "{up:?}");
+        assert!(down.y <= p.y - 1e-9 && down.y > p.y - 2e-9, "{down:?}");
+        // Along a normal with no error the point still moves by an ulp.
+        let tight = offset_ray_origin(p, DVec3::ZERO, n, DVec3::Y);
+        assert!(tight.y > p.y && tight.x == p.x);
+    }
+
+    #[test]
+    fn shadow_ray_stops_short_of_its_target() {
+        let (o, d, t_max) = shadow_ray_to(DVec3::ZERO, DVec3::ZERO, DVec3::Y, DVec3::Y * 10.0);
+        assert!(o.y > 0.0 && (d - DVec3::Y).length() < 1e-12);
+        assert!(t_max < 10.0 && t_max > 10.0 * (1.0 - 2.0 * SHADOW_EPSILON));
+    }
+
+    #[test]
+    fn transformed_error_bounds_the_difference() {
+        let m = DMat4::from_scale_rotation_translation(
+            DVec3::new(3.0, 0.5, 2.0),
+            glam::DQuat::from_rotation_y(0.7),
+            DVec3::new(1e5, -2.0, 7.0),
+        );
+        let p = DVec3::new(0.3, -1.7, 2.2);
+        let (q, err) = transform_point_error(&m, p, DVec3::ZERO);
+        // The exact image, by a longer route, differs by less than the bound.
+        let exact = m.x_axis.truncate() * p.x
+            + m.y_axis.truncate() * p.y
+            + m.z_axis.truncate() * p.z
+            + m.w_axis.truncate();
+        assert!(((q - exact).abs() - err).max_element() <= 0.0);
+        assert!(err.max_element() < 1e-9 && err.max_element() > 0.0);
+    }
+
+    #[test]
+    fn reflection_below_the_surface_is_bent_back() {
+        let ng = DVec3::Z;
+        // A shading normal tilted far from ng; a grazing view from the side
+        // it tilts away from reflects below the surface.
+        let ns = DVec3::new(0.8, 0.0, 0.6);
+        let wo = DVec3::new(-0.9, 0.0, 0.2).normalize();
+        assert!(reflect(-wo, ns).dot(ng) < 0.0);
+        let fixed = valid_reflection_normal(ng, wo, ns);
+        assert!((fixed.length() - 1.0).abs() < 1e-12);
+        let r = reflect(-wo, fixed);
+        let threshold = (0.9 * wo.dot(ng)).min(0.01);
+        assert!((r.dot(ng) - threshold).abs() < 1e-9, "{r:?}");
+        // A reflection already above the surface keeps its normal.
+        let easy = DVec3::new(0.0, 0.0, 1.0);
+        assert_eq!(valid_reflection_normal(ng, wo, easy), easy);
+    }
+}
