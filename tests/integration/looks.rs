@@ -403,3 +403,32 @@ plane { normal <0, 1, 0>  material { colour rgb(1, 1, 1) } }
     let v = floor.get(1, 1)[0];
     assert!(v > 2.2 && v <= 3.0 + 1e-6, "{v}");
 }
+
+#[test]
+fn an_emissive_object_value_lights_the_scene_wherever_it_is_placed() {
+    // One lamp value placed twice: the floor under each placement is lit
+    // by it (inverse-square), the floor between them less.
+    let film = render_src(
+        "
+camera { position <0, 1, 0>  look_at <0, 0, 0>  up <0, 0, -1>  fov 120 }
+render { width 41  height 3  gamma linear }
+material lampm { emit white  intensity 100 }
+let lamp = disc { radius 0.05  rotate x 90  material lampm }
+lamp { translate <-1, 3, 0> }
+lamp { translate <1, 3, 0> }
+plane { normal <0, 1, 0>  material { colour rgb(1, 1, 1) } }
+",
+    );
+    let row: Vec<f32> = (0..41).map(|x| film.get(x, 1)[0]).collect();
+    let (left, mid, right) = (row[6], row[20], row[34]);
+    assert!(left > 0.0 && right > 0.0, "{row:?}");
+    // One random point of each small disc per pixel: equal within its noise.
+    assert!(
+        (left - right).abs() < 0.02 * left,
+        "symmetric: {left} {right}"
+    );
+    // Under the middle both lamps shine from 3 up and 1 across:
+    // 2 · L·A · cos·cos / r² = 2 · 100 · π·0.05² · 0.9 / 10.
+    let want = 2.0 * 100.0 * std::f32::consts::PI * 0.0025 * 0.9 / 10.0;
+    assert!((mid - want).abs() < 0.02 * want, "{mid} vs {want}");
+}

@@ -129,6 +129,26 @@ impl Builder<'_> {
         });
     }
 
+    /// The area lights of an object value, placed by `xf`.
+    pub(super) fn place_area_lights(&mut self, lights: &[AreaLight], xf: &Transform, at: Span) {
+        for l in lights {
+            match moved(&l.surface, xf) {
+                Some(surface) => self.scene.area_lights.push(AreaLight {
+                    surface,
+                    ..l.clone()
+                }),
+                None => self.err(
+                    Error::new(
+                        at,
+                        "an emissive sphere must stay a sphere to light the scene",
+                    )
+                    .label("scaled unevenly or sheared")
+                    .help("scale it by one number, or use a disc or rectangle as the light"),
+                ),
+            }
+        }
+    }
+
     fn samples_unused(&mut self, at: Span, in_csg: bool) {
         let why = if in_csg {
             "inside CSG an emissive object glows but lights nothing"

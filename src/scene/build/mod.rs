@@ -107,6 +107,8 @@ struct Builder<'p> {
     light_surface: Option<super::LightSurface>,
     /// Whether `render` set a `background` (else an environment is the sky).
     background_given: bool,
+    /// The area lights of each object value, in its own space.
+    instance_lights: HashMap<InstanceKey, Vec<super::AreaLight>>,
     /// Which loop iteration or call made what is being built.
     trace: Option<Arc<crate::eval::Trace>>,
     /// Mistakes reported so far, by place and message: one written inside
@@ -169,6 +171,7 @@ impl<'p> Builder<'p> {
             meshes: HashMap::new(),
             light_surface: None,
             background_given: false,
+            instance_lights: HashMap::new(),
             trace: None,
             reported: Default::default(),
             instances: HashMap::new(),

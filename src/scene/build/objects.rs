@@ -312,6 +312,7 @@ impl Builder<'_> {
         let total = self.transform(p.take_transforms()).then(&ctx.outer);
         self.finish(&name.node, p);
         let key = (Arc::as_ptr(value) as usize, mat, ctx.csg);
+        let lights_before = self.scene.area_lights.len();
         let shapes = match self.instances.get(&key) {
             Some(s) => s.clone(),
             None => {
@@ -331,9 +332,15 @@ impl Builder<'_> {
                     .map(Arc::from)
                     .collect();
                 self.instances.insert(key, built.clone());
+                // Area lights it holds were made in its own space: kept
+                // with it and placed with each placement below.
+                let lights = self.scene.area_lights.split_off(lights_before);
+                self.instance_lights.insert(key, lights);
                 built
             }
         };
+        let lights = self.instance_lights.get(&key).cloned().unwrap_or_default();
+        self.place_area_lights(&lights, &total, name.span);
         shapes
             .into_iter()
             .map(|s| wrap(Box::new(Shared(s)), total))
