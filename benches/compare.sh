@@ -4,6 +4,7 @@
 #   benches/compare.sh                 # every benchmark scene, 1000x1000, 3 runs each
 #   RUNS=1 SIZE=300 benches/compare.sh # a quick look
 #   SCENES="torus sextic" benches/compare.sh
+#   SCENES="glass soft dof aa" benches/compare.sh   # the round-2 scenes
 #
 # For each scene it renders POV-Ray's version (../shared/peers/povray/run.sh,
 # which installs POV-Ray when run as root) and ours (benches/scenes/NAME.rt,
@@ -22,6 +23,8 @@ mkdir -p "$OUT"
 pov_name() {
   case "$1" in
     torus) echo torus_poly_sturm ;;
+    # We trace the whole ray tree (no adc_bailout): POV-Ray's glass_full.
+    glass) echo glass_full ;;
     *) echo "$1" ;;
   esac
 }

@@ -75,6 +75,7 @@ fn look_at_origin(objects: Vec<Box<dyn Shape>>, position: DVec3) -> Scene {
         look_at: DVec3::ZERO,
         up: DVec3::Y,
         projection: Projection::Fov(50.0),
+        lens: None,
     };
     s.objects = objects;
     s

@@ -27,6 +27,7 @@ fn base(position: DVec3, look_at: DVec3, fov: f64, light: DVec3, size: u32) -> S
             look_at,
             up: DVec3::Y,
             projection: Projection::Fov(fov),
+            lens: None,
         },
         settings: RenderSettings {
             width: size,
@@ -35,22 +36,19 @@ fn base(position: DVec3, look_at: DVec3, fov: f64, light: DVec3, size: u32) -> S
             background: Colour::new(0.05, 0.05, 0.1),
             transfer: Transfer::Linear,
             samples: 1,
+            ..RenderSettings::default()
         },
         ambient: Colour::splat(0.1),
-        lights: vec![Light {
-            position: light,
-            colour: Colour::ONE,
-        }],
+        lights: vec![Light::point(light, Colour::ONE)],
         materials: vec![Material::default()],
-        objects: Vec::new(),
+        ..Scene::default()
     }
 }
 
 fn material(scene: &mut Scene, c: Colour, reflect: f64) -> u32 {
-    scene.materials.push(Material {
-        texture: Texture::Solid(c),
-        reflect,
-    });
+    scene
+        .materials
+        .push(Material::matte(Texture::Solid(c), reflect));
     (scene.materials.len() - 1) as u32
 }
 

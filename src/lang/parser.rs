@@ -27,6 +27,7 @@ pub const STATEMENT_KEYWORDS: &[&str] = &[
     "render",
     "ambient",
     "light",
+    "environment",
     "material",
     "let",
     "include",

@@ -2,6 +2,12 @@
 //! plane at distance z of width w and height h (world units). A field of
 //! view is the same camera with distance 1 and width 2·tan(A/2), its height
 //! following the pixel aspect.
+//!
+//! A thin lens (`aperture` = lens radius a, `focus` = distance f) moves each
+//! ray's start to eye + q_x·r + q_y·u' for a point q on the lens disc and
+//! aims it at the point p·f/d (camera frame) its pinhole ray would reach at
+//! the focus distance, so everything at distance f along the view
+//! direction stays sharp.
 
 use crate::geometry::{DVec3, Ray};
 
@@ -23,6 +29,15 @@ pub struct Camera {
     pub look_at: DVec3,
     pub up: DVec3,
     pub projection: Projection,
+    /// `None`: a pinhole.
+    pub lens: Option<ThinLens>,
+}
+
+/// A thin lens: radius and the distance (along the view direction) that is sharp.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ThinLens {
+    pub aperture: f64,
+    pub focus: f64,
 }
 
 impl Default for Camera {
@@ -32,6 +47,7 @@ impl Default for Camera {
             look_at: DVec3::ZERO,
             up: DVec3::Y,
             projection: Projection::Fov(60.0),
+            lens: None,
         }
     }
 }
@@ -46,6 +62,10 @@ pub struct PixelRays {
     corner: DVec3,
     step_right: DVec3,
     step_down: DVec3,
+    /// The unit frame vectors r and u', and the view-plane distance d.
+    right: DVec3,
+    up: DVec3,
+    distance: f64,
 }
 
 impl Camera {
@@ -85,6 +105,9 @@ impl Camera {
             corner: centre - r * (w / 2.0) + u * (h / 2.0),
             step_right,
             step_down,
+            right: r,
+            up: u,
+            distance: z,
         })
     }
 }
@@ -100,6 +123,17 @@ impl PixelRays {
     pub fn ray_at(&self, x: f64, y: f64) -> Ray {
         let p = self.corner + x * self.step_right + y * self.step_down;
         Ray::new(self.origin, (p - self.origin).normalize())
+    }
+
+    /// The thin-lens ray through image point (x, y) from lens point
+    /// (q_x, q_y) (world units in the lens plane): it starts at
+    /// eye + q_x·r + q_y·u' and passes through the pinhole ray's point at
+    /// the focus distance, eye + (p − eye)·f/d.
+    pub fn lens_ray_at(&self, x: f64, y: f64, q: (f64, f64), focus: f64) -> Ray {
+        let p = self.corner + x * self.step_right + y * self.step_down;
+        let sharp = self.origin + (p - self.origin) * (focus / self.distance);
+        let start = self.origin + q.0 * self.right + q.1 * self.up;
+        Ray::new(start, (sharp - start).normalize())
     }
 }
 

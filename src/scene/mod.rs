@@ -10,10 +10,10 @@ mod material;
 pub mod texture;
 
 pub use build::{build, build_with, build_with_warnings, is_object};
-pub use camera::{Camera, Projection};
+pub use camera::{Camera, PixelRays, Projection, ThinLens};
 pub use colour::{Colour, Transfer};
-pub use light::Light;
-pub use material::{Material, MaterialId};
+pub use light::{AreaLight, Environment, Light, LightKind, LightSurface, Occlusion};
+pub use material::{Dielectric, Material, MaterialId, Phong};
 pub use texture::Texture;
 
 use crate::shapes::Shape;
@@ -30,6 +30,25 @@ pub struct RenderSettings {
     /// Antialiasing: each pixel averages `samples × samples` rays on a
     /// regular grid (1 = one ray through the pixel's centre).
     pub samples: u32,
+    /// Where in the pixel (and on the lens) the samples go.
+    pub sampler: SamplerKind,
+    /// Changes every random number of the picture (and nothing else).
+    pub seed: u64,
+}
+
+/// How a pixel's n × n samples are placed.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum SamplerKind {
+    /// Cell centres of the n × n grid (the 2017 rule; no randomness).
+    #[default]
+    Regular,
+    /// n² independent uniform points.
+    Random,
+    /// One random point in each cell of the n × n grid.
+    Jittered,
+    /// Jittered, and also one point per row and column of the n² × n²
+    /// grid (Chiu, Shirley and Wang), shuffled.
+    MultiJittered,
 }
 
 /// Most samples per pixel side (`samples 16` is 256 rays a pixel).
@@ -44,18 +63,24 @@ impl Default for RenderSettings {
             background: Colour::ZERO,
             transfer: Transfer::Srgb,
             samples: 1,
+            sampler: SamplerKind::Regular,
+            seed: 0,
         }
     }
 }
 
 /// Everything the renderer needs, in world space.
-#[derive(Debug)]
+#[derive(Debug, Default)]
 pub struct Scene {
     pub camera: Camera,
     pub settings: RenderSettings,
     /// Ambient colour already multiplied by its intensity.
     pub ambient: Colour,
     pub lights: Vec<Light>,
+    /// Emissive spheres, discs and rectangles, sampled for soft shadows.
+    pub area_lights: Vec<AreaLight>,
+    pub environment: Option<Environment>,
+    pub occlusion: Option<Occlusion>,
     /// Indexed by [`MaterialId`]; index 0 is the default material.
     pub materials: Vec<Material>,
     pub objects: Vec<Box<dyn Shape>>,

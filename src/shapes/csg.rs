@@ -1179,16 +1179,14 @@ mod tests {
     /// Renders `objects` with a camera and a light at `eye`, looking along +x.
     fn render(objects: Vec<Box<dyn Shape>>, eye: DVec3) -> crate::render::Film {
         use crate::scene::{Camera, Light, Material, Projection, RenderSettings, Scene, Texture};
-        let solid = |r, g, b| Material {
-            texture: Texture::Solid(DVec3::new(r, g, b)),
-            reflect: 0.0,
-        };
+        let solid = |r, g, b| Material::matte(Texture::Solid(DVec3::new(r, g, b)), 0.0);
         let scene = Scene {
             camera: Camera {
                 position: eye,
                 look_at: eye + DVec3::X,
                 up: DVec3::Y,
                 projection: Projection::Fov(60.0),
+                lens: None,
             },
             settings: RenderSettings {
                 width: 24,
@@ -1196,16 +1194,13 @@ mod tests {
                 ..RenderSettings::default()
             },
             ambient: DVec3::splat(0.1),
-            lights: vec![Light {
-                position: eye,
-                colour: DVec3::ONE,
-            }],
+            lights: vec![Light::point(eye, DVec3::ONE)],
             materials: vec![
                 Material::default(),
                 solid(1.0, 0.0, 0.0),
                 solid(0.0, 1.0, 0.0),
             ],
-            objects: Vec::new(),
+            ..Scene::default()
         };
         let world = crate::accel::World::build(objects);
         let opts = crate::render::RenderOptions { progress: None };

@@ -9,6 +9,7 @@ mod geometry;
 mod golden;
 mod hostile;
 mod lang;
+mod looks;
 mod mesh;
 mod render;
 mod support;

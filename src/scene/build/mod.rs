@@ -12,6 +12,7 @@
 //! the order written. Constants and named materials can only be used after
 //! they are defined; using one earlier says where it is defined.
 
+mod area;
 mod objects;
 mod params;
 mod textures;
@@ -73,6 +74,13 @@ pub fn build_with(
     let mut seen = std::collections::HashSet::new();
     b.errors
         .retain(|e| seen.insert((e.span, e.message.clone())));
+    if let Some(env) = &mut b.scene.environment {
+        if b.background_given {
+            env.visible = false;
+        } else {
+            b.scene.settings.background = env.colour;
+        }
+    }
     if b.errors.is_empty() {
         Ok((b.scene, b.warnings))
     } else {
@@ -94,6 +102,13 @@ struct Builder<'p> {
     singletons: HashMap<&'static str, Span>,
     /// Meshes by canonical path: one file placed many times is read once.
     meshes: HashMap<PathBuf, Arc<MeshData>>,
+    /// The last primitive's surface in its own space, should its material
+    /// make it an area light.
+    light_surface: Option<super::LightSurface>,
+    /// Whether `render` set a `background` (else an environment is the sky).
+    background_given: bool,
+    /// The area lights of each object value, in its own space.
+    instance_lights: HashMap<InstanceKey, Vec<super::AreaLight>>,
     /// Which loop iteration or call made what is being built.
     trace: Option<Arc<crate::eval::Trace>>,
     /// Mistakes reported so far, by place and message: one written inside
@@ -147,14 +162,16 @@ impl<'p> Builder<'p> {
                 camera: Camera::default(),
                 settings,
                 ambient: Colour::ZERO,
-                lights: Vec::new(),
                 materials: vec![Material::default()],
-                objects: Vec::new(),
+                ..Scene::default()
             },
             materials: HashMap::new(),
             all_materials,
             singletons: HashMap::new(),
             meshes: HashMap::new(),
+            light_surface: None,
+            background_given: false,
+            instance_lights: HashMap::new(),
             trace: None,
             reported: Default::default(),
             instances: HashMap::new(),
@@ -233,13 +250,14 @@ impl<'p> Builder<'p> {
             };
             let kw = Spanned::new(kw.node.to_string(), kw.span);
             match kw.node.as_str() {
-                "camera" | "render" | "light" => {
+                "camera" | "render" | "light" | "environment" => {
                     let Some(block) = self.block_after(&kw, items, &mut i) else {
                         continue;
                     };
                     match kw.node.as_str() {
                         "camera" => self.camera(&kw, block),
                         "render" => self.render(&kw, block),
+                        "environment" => self.environment(&kw, block),
                         _ => self.light(&kw, block),
                     }
                 }
@@ -539,9 +557,37 @@ impl<'p> Builder<'p> {
                 );
             }
         }
+        cam.lens = self.lens(p, kw);
         self.scene.camera = cam;
         let p = std::mem::take(p);
         self.finish("camera", p);
+    }
+
+    /// `aperture` (lens radius) and `focus`: a thin lens, or `None`.
+    fn lens(&mut self, p: &mut Params, kw: &Spanned<String>) -> Option<super::ThinLens> {
+        let aperture = p.take("aperture");
+        let focus = p.take("focus");
+        let a = aperture
+            .as_ref()
+            .and_then(|q| self.checked(&q.values[0], |x| x >= 0.0 && x.is_finite(), "0 or more"));
+        let f = focus.as_ref().and_then(|q| {
+            self.checked(&q.values[0], |x| x > 0.0 && x.is_finite(), "greater than 0")
+        });
+        match (&aperture, &focus) {
+            (Some(q), None) if a.is_some_and(|a| a > 0.0) => {
+                self.err(
+                    Error::new(q.name.span, "a lens `aperture` needs a `focus` distance")
+                        .label("no `focus` in this camera")
+                        .note(kw.span, "camera here")
+                        .help("add `focus D`: the distance along the view direction that is sharp"),
+                );
+                None
+            }
+            _ => Some(super::ThinLens {
+                aperture: a?,
+                focus: f.unwrap_or(1.0),
+            }),
+        }
     }
 
     fn render(&mut self, kw: &Spanned<String>, block: &Block) {
@@ -568,6 +614,7 @@ impl<'p> Builder<'p> {
             && let Some((c, _)) = self.colour(&q.values[0])
         {
             self.scene.settings.background = c;
+            self.background_given = true;
         }
         if let Some(q) = p.take("samples")
             && let Some(n) = self.integer(&q.values[0], 1, super::MAX_SAMPLES)
@@ -577,6 +624,36 @@ impl<'p> Builder<'p> {
         if let Some(q) = p.take("gamma") {
             // Already applied by `find_transfer`; checked here for mistakes.
             self.transfer_value(&q.values[0]);
+        }
+        if let Some(q) = p.take("sampler") {
+            const KINDS: [&str; 4] = ["regular", "random", "jittered", "multijittered"];
+            let kind = match q.values[0].as_name().map(|n| n.node) {
+                Some("regular") => Some(super::SamplerKind::Regular),
+                Some("random") => Some(super::SamplerKind::Random),
+                Some("jittered") => Some(super::SamplerKind::Jittered),
+                Some("multijittered" | "multi_jittered") => Some(super::SamplerKind::MultiJittered),
+                _ => None,
+            };
+            match kind {
+                Some(k) => self.scene.settings.sampler = k,
+                None => {
+                    let at = q.values[0].span();
+                    let help = q.values[0]
+                        .as_name()
+                        .and_then(|n| did_you_mean(n.node, KINDS))
+                        .unwrap_or_else(|| format!("the samplers are {}", KINDS.join(", ")));
+                    self.err(
+                        Error::new(at, "unknown sampler")
+                            .label("expected `regular`, `random`, `jittered` or `multijittered`")
+                            .help(help),
+                    );
+                }
+            }
+        }
+        if let Some(q) = p.take("seed")
+            && let Some(n) = self.integer(&q.values[0], 0, u32::MAX)
+        {
+            self.scene.settings.seed = n as u64;
         }
         self.finish("render", p);
     }
@@ -648,13 +725,128 @@ impl<'p> Builder<'p> {
         if let (true, Some((c, _)), Some(k)) = (first, colour, intensity) {
             self.scene.ambient = c * k;
         }
+        if items
+            .get(*i)
+            .and_then(Item::as_name)
+            .is_some_and(|n| n.node == "occlusion")
+        {
+            let at = Spanned::new("occlusion".to_string(), items[*i].span());
+            *i += 1;
+            if let Some(block) = self.block_after(&at, items, i) {
+                self.occlusion(block);
+            }
+        }
+    }
+
+    /// `occlusion { samples n  min m  distance d }` after `ambient`.
+    fn occlusion(&mut self, block: &Block) {
+        let mut p = self.params("occlusion", block, &params::OCCLUSION);
+        let mut o = super::Occlusion {
+            samples: 16,
+            min: 0.0,
+            distance: f64::INFINITY,
+        };
+        let mut ok = true;
+        if let Some(q) = p.take("samples") {
+            match self.integer(&q.values[0], 1, 1024) {
+                Some(n) => o.samples = n,
+                None => ok = false,
+            }
+        }
+        if let Some(q) = p.take("min") {
+            match self.checked(
+                &q.values[0],
+                |x| (0.0..=1.0).contains(&x),
+                "between 0 and 1",
+            ) {
+                Some(m) => o.min = m,
+                None => ok = false,
+            }
+        }
+        if let Some(q) = p.take("distance") {
+            match self.positive(&q.values[0]) {
+                Some(d) => o.distance = d,
+                None => ok = false,
+            }
+        }
+        self.finish("occlusion", p);
+        if ok {
+            self.scene.occlusion = Some(o);
+        }
+    }
+
+    /// `environment { colour c  intensity k  samples n }`: light from every
+    /// direction, and what camera rays that miss see unless a `background`
+    /// is set.
+    fn environment(&mut self, kw: &Spanned<String>, block: &Block) {
+        if !self.once(kw, "environment") {
+            return;
+        }
+        let mut p = self.params("environment", block, &params::ENVIRONMENT);
+        let colour = match p.take("colour") {
+            Some(q) => self.colour(&q.values[0]).map(|c| c.0),
+            None => Some(Colour::ONE),
+        };
+        let intensity = match p.take("intensity") {
+            Some(q) => self.checked(&q.values[0], |x| x >= 0.0, "0 or more"),
+            None => Some(1.0),
+        };
+        let samples = match p.take("samples") {
+            Some(q) => self.integer(&q.values[0], 1, 1024),
+            None => Some(1),
+        };
+        let image = match p.take("image") {
+            None => Some(None),
+            Some(q) => match &q.values[0] {
+                Item::Str { text, content, .. } => self.sky_image(text, *content).map(Some),
+                other => {
+                    self.err(
+                        Error::new(
+                            other.span(),
+                            format!("expected a file name, found {}", other.describe()),
+                        )
+                        .label("not a string")
+                        .help("e.g. `environment { image \"sky.hdr\" }`"),
+                    );
+                    None
+                }
+            },
+        };
+        self.finish("environment", p);
+        if let (Some(c), Some(k), Some(samples), Some(image)) = (colour, intensity, samples, image)
+        {
+            self.scene.environment = Some(super::Environment {
+                colour: c * k,
+                samples,
+                image,
+                visible: true,
+            });
+        }
+    }
+
+    /// An environment's sky image: HDR and EXR are linear radiance; 8-bit
+    /// images are decoded with the scene's curve.
+    fn sky_image(&mut self, file: &str, span: Span) -> Option<Arc<super::texture::ImageTexture>> {
+        let path = self.program.sources.dir_of(span.file).join(file);
+        match super::texture::ImageTexture::load(&path, self.env.transfer, Default::default()) {
+            Ok(img) => Some(Arc::new(img)),
+            Err(e) => {
+                self.err(
+                    Error::new(span, format!("cannot use the image `{file}`: {e}"))
+                        .label(format!("looked for {}", path.display()))
+                        .help("an image path is relative to the scene file that names it"),
+                );
+                None
+            }
+        }
     }
 
     fn light(&mut self, kw: &Spanned<String>, block: &Block) {
         let mut p = self.params("light", block, &params::LIGHT);
+        let direction = p.take("direction");
         let position = match p.take("position") {
             Some(q) => self.vec3(&q.values[0]).map(|v| v.0),
-            None if p.had_unknown => None,
+            None if p.had_unknown || direction.is_some() => None,
             None => {
                 self.err(
                     Error::new(kw.span, "a `light` needs a `position`")
@@ -672,13 +864,92 @@ impl<'p> Builder<'p> {
             Some(q) => self.checked(&q.values[0], |x| x >= 0.0, "0 or more"),
             None => Some(1.0),
         };
-        if let (Some(position), Some(colour), Some(k)) = (position, colour, intensity) {
+        let kind = self.light_kind(kw, &mut p, direction, position);
+        if let (Some(kind), Some(colour), Some(k)) = (kind, colour, intensity) {
             self.scene.lights.push(Light {
-                position,
+                position: position.unwrap_or(DVec3::ZERO),
                 colour: colour * k,
+                kind,
             });
         }
         self.finish("light", p);
+    }
+
+    /// Point (a position), parallel (a direction) or spot (a position, a
+    /// `look_at` and angles).
+    fn light_kind(
+        &mut self,
+        kw: &Spanned<String>,
+        p: &mut Params,
+        direction: Option<Param>,
+        position: Option<DVec3>,
+    ) -> Option<super::LightKind> {
+        let look_at = p.take("look_at");
+        let angle = p.take("angle");
+        let falloff = p.take("falloff");
+        if let Some(d) = direction {
+            if let Some(other) = look_at.as_ref().or(angle.as_ref()).or(falloff.as_ref()) {
+                self.err(
+                    Error::new(
+                        other.name.span,
+                        format!("`{}` has no effect on a parallel light", other.name.node),
+                    )
+                    .label("not used")
+                    .note(d.name.span, "`direction` makes this a parallel light"),
+                );
+            }
+            let (v, s) = self.vec3(&d.values[0])?;
+            let Some(dir) = v.try_normalize() else {
+                self.err(Error::new(s, "a light's direction cannot be zero").label("zero vector"));
+                return None;
+            };
+            return Some(super::LightKind::Parallel { direction: dir });
+        }
+        let Some(target) = look_at else {
+            if let Some(q) = angle.as_ref().or(falloff.as_ref()) {
+                self.err(
+                    Error::new(
+                        q.name.span,
+                        format!("`{}` needs a `look_at` (a spot light)", q.name.node),
+                    )
+                    .label("no `look_at` in this light")
+                    .note(kw.span, "light here"),
+                );
+                return None;
+            }
+            position?;
+            return Some(super::LightKind::Point);
+        };
+        let (at, s) = self.vec3(&target.values[0])?;
+        let angle_deg = match &angle {
+            Some(q) => self.checked(
+                &q.values[0],
+                |a| a > 0.0 && a < 90.0,
+                "an angle between 0 and 90 degrees",
+            )?,
+            None => 30.0,
+        };
+        let falloff_deg = match &falloff {
+            Some(q) => self.checked(
+                &q.values[0],
+                |a| a >= angle_deg && a < 90.0,
+                &format!("an angle from `angle` ({angle_deg}) to 90 degrees"),
+            )?,
+            None => angle_deg,
+        };
+        let axis = (at - position?).try_normalize();
+        let Some(axis) = axis else {
+            self.err(
+                Error::new(s, "a spot light looks at its own position")
+                    .label("same point as `position`"),
+            );
+            return None;
+        };
+        Some(super::LightKind::Spot {
+            axis,
+            cos_angle: angle_deg.to_radians().cos(),
+            cos_falloff: falloff_deg.to_radians().cos(),
+        })
     }
 
     // ---- materials ----
@@ -739,8 +1010,124 @@ impl<'p> Builder<'p> {
                 None => ok = false,
             }
         }
+        ok &= self.round2_material(&mut p, &mut m);
         self.finish("material", p);
         ok.then_some(m)
+    }
+
+    /// The 2018 parts of a material (see `render/material/`). Glass and
+    /// lamps have no diffuse or ambient part unless they say so.
+    fn round2_material(&mut self, p: &mut Params, m: &mut Material) -> bool {
+        let mut ok = true;
+        let mut weight = |b: &mut Self, name: &str| -> Option<f64> {
+            let q = p.take(name)?;
+            let v = b.checked(&q.values[0], |x| x >= 0.0 && x.is_finite(), "0 or more");
+            ok &= v.is_some();
+            v
+        };
+        let diffuse = weight(self, "diffuse");
+        let ambient = weight(self, "ambient");
+        let specular = weight(self, "specular");
+        let mirror = weight(self, "mirror");
+        let intensity = weight(self, "intensity");
+        let mut positive = |b: &mut Self, name: &str| -> Option<(f64, Span)> {
+            let q = p.take(name)?;
+            let v = b.checked(&q.values[0], |x| x > 0.0 && x.is_finite(), "greater than 0");
+            ok &= v.is_some();
+            v.map(|v| (v, q.name.span))
+        };
+        let shininess = positive(self, "shininess");
+        let glossy = positive(self, "glossy");
+        let mut colour = |b: &mut Self, name: &str| -> Option<(Colour, Span)> {
+            let q = p.take(name)?;
+            let v = b.colour(&q.values[0]);
+            ok &= v.is_some();
+            v.map(|(c, _)| (c, q.name.span))
+        };
+        let specular_colour = colour(self, "specular_colour");
+        let mirror_colour = colour(self, "mirror_colour");
+        let emit = colour(self, "emit");
+        let refract = p.take("refract");
+        if let Some(q) = &refract {
+            match self.refract_block(&q.values[0]) {
+                Some(d) => m.refract = Some(d),
+                None => ok = false,
+            }
+        }
+        if let Some((c, _)) = emit {
+            m.emit = c * intensity.unwrap_or(1.0);
+        }
+        if refract.is_some() || emit.is_some() {
+            m.diffuse = 0.0;
+            m.ambient = 0.0;
+        }
+        if let Some(kd) = diffuse {
+            m.diffuse = kd;
+        }
+        if let Some(ka) = ambient {
+            m.ambient = ka;
+        }
+        if specular.is_some() || shininess.is_some() || specular_colour.is_some() {
+            let ks = specular.unwrap_or(1.0);
+            let cs = specular_colour.map_or(Colour::ONE, |c| c.0);
+            m.phong = Some(super::Phong {
+                colour: cs * ks,
+                shininess: shininess.map_or(20.0, |s| s.0),
+            });
+        }
+        if mirror.is_some() || mirror_colour.is_some() || glossy.is_some() {
+            let kr = mirror.unwrap_or(1.0);
+            let cr = mirror_colour.map_or(Colour::ONE, |c| c.0);
+            m.mirror = cr * kr;
+            m.glossy = glossy.map(|g| g.0);
+        }
+        ok
+    }
+
+    fn refract_block(&mut self, item: &Item) -> Option<super::Dielectric> {
+        let Item::Block(block) = item else {
+            self.err(
+                Error::new(
+                    item.span(),
+                    format!("expected a block, found {}", item.describe()),
+                )
+                .label("not a block")
+                .help("e.g. `refract { ior 1.5  filter rgb(0.9, 1, 0.95) }`"),
+            );
+            return None;
+        };
+        let mut p = self.params("refract", block, &params::REFRACT);
+        let mut d = super::Dielectric::default();
+        let mut ok = true;
+        for (name, slot) in [("ior", &mut d.ior), ("outside_ior", &mut d.outside_ior)] {
+            if let Some(q) = p.take(name) {
+                match self.checked(&q.values[0], |x| x > 0.0 && x.is_finite(), "greater than 0") {
+                    Some(v) => *slot = v,
+                    None => ok = false,
+                }
+            }
+        }
+        for (name, slot) in [
+            ("filter", &mut d.filter),
+            ("outside_filter", &mut d.outside_filter),
+        ] {
+            if let Some(q) = p.take(name) {
+                match self.colour(&q.values[0]) {
+                    Some((c, _)) if c.max_element() <= 1.0 => *slot = c,
+                    Some((c, s)) => {
+                        self.err(
+                            Error::new(s, "a filter cannot exceed 1 in any channel")
+                                .label(format!("this is rgb({}, {}, {})", c.x, c.y, c.z))
+                                .help("a filter is the share of light left after one unit of distance"),
+                        );
+                        ok = false;
+                    }
+                    None => ok = false,
+                }
+            }
+        }
+        self.finish("refract", p);
+        ok.then_some(d)
     }
 
     /// `material NAME` or `material { … }` inside an object.

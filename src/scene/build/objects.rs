@@ -11,7 +11,7 @@ use crate::geometry::{Aabb, DVec3, Transform};
 use crate::implicit::{Equation, ImplicitSurface};
 use crate::lang::ast::{Block, Item, Span, Spanned};
 use crate::lang::diagnostics::{Error, did_you_mean};
-use crate::scene::MaterialId;
+use crate::scene::{LightSurface, MaterialId};
 use crate::shapes::{
     Cone, Csg, CsgOp, Cuboid, Disc, Mesh, MeshData, Plane, Rectangle, Shape, Shared, Sphere, Torus,
     Transformed, Triangle,
@@ -67,10 +67,19 @@ impl Ctx {
 const V3: &str = "a 3-vector";
 const NUM: &str = "a number";
 const MAT: &str = "a material";
+const LIGHT_SAMPLES: &str = "a whole number: n × n shadow points per shading point (area lights)";
 
 fn schema(kind: &str) -> Schema {
     let own: &'static [Spec] = match kind {
-        "sphere" => const { &[spec("centre", 1, V3), spec("radius", 1, NUM)] },
+        "sphere" => {
+            const {
+                &[
+                    spec("centre", 1, V3),
+                    spec("radius", 1, NUM),
+                    spec("samples", 1, LIGHT_SAMPLES),
+                ]
+            }
+        }
         "plane" => const { &[spec("normal", 1, V3), spec("offset", 1, NUM)] },
         "box" => {
             const {
@@ -111,7 +120,15 @@ fn schema(kind: &str) -> Schema {
                 ]
             }
         }
-        "disc" => const { &[spec("centre", 1, V3), spec("radius", 1, NUM)] },
+        "disc" => {
+            const {
+                &[
+                    spec("centre", 1, V3),
+                    spec("radius", 1, NUM),
+                    spec("samples", 1, LIGHT_SAMPLES),
+                ]
+            }
+        }
         "triangle" => const { &[spec("a", 1, V3), spec("b", 1, V3), spec("c", 1, V3)] },
         "rectangle" => {
             const {
@@ -119,6 +136,7 @@ fn schema(kind: &str) -> Schema {
                     spec("bottom_left", 1, V3),
                     spec("top_left", 1, V3),
                     spec("bottom_right", 1, V3),
+                    spec("samples", 1, LIGHT_SAMPLES),
                 ]
             }
         }
@@ -256,11 +274,16 @@ impl Builder<'_> {
                     vec![wrap(Box::new(Csg::new(op, shapes)), total)]
                 }
             }
-            _ => self
-                .primitive(kind, kw, string, &mut p, mat)
-                .map(|s| wrap(s, total))
-                .into_iter()
-                .collect(),
+            _ => {
+                let shape = self.primitive(kind, kw, string, &mut p, mat);
+                let surface = self.light_surface.take();
+                if shape.is_some() {
+                    self.area_light(kw, &mut p, surface, mat, &total, ctx.csg.is_some());
+                } else {
+                    p.take("samples");
+                }
+                shape.map(|s| wrap(s, total)).into_iter().collect()
+            }
         };
         self.finish(kind, p);
         out
@@ -289,6 +312,7 @@ impl Builder<'_> {
         let total = self.transform(p.take_transforms()).then(&ctx.outer);
         self.finish(&name.node, p);
         let key = (Arc::as_ptr(value) as usize, mat, ctx.csg);
+        let lights_before = self.scene.area_lights.len();
         let shapes = match self.instances.get(&key) {
             Some(s) => s.clone(),
             None => {
@@ -308,9 +332,15 @@ impl Builder<'_> {
                     .map(Arc::from)
                     .collect();
                 self.instances.insert(key, built.clone());
+                // Area lights it holds were made in its own space: kept
+                // with it and placed with each placement below.
+                let lights = self.scene.area_lights.split_off(lights_before);
+                self.instance_lights.insert(key, lights);
                 built
             }
         };
+        let lights = self.instance_lights.get(&key).cloned().unwrap_or_default();
+        self.place_area_lights(&lights, &total, name.span);
         shapes
             .into_iter()
             .map(|s| wrap(Box::new(Shared(s)), total))
@@ -416,7 +446,9 @@ impl Builder<'_> {
             "sphere" => {
                 let c = self.vec3_or(p, "centre", DVec3::ZERO);
                 let r = self.positive_or(p, "radius", Some(1.0), kw);
-                Box::new(Sphere::new(c?, r?, mat))
+                let (centre, radius) = (c?, r?);
+                self.light_surface = Some(LightSurface::Sphere { centre, radius });
+                Box::new(Sphere::new(centre, radius, mat))
             }
             "plane" => {
                 let n = match p.take("normal") {
@@ -501,7 +533,15 @@ impl Builder<'_> {
             "disc" => {
                 let c = self.vec3_or(p, "centre", DVec3::ZERO);
                 let r = self.positive_or(p, "radius", Some(1.0), kw);
-                Box::new(Disc::new(c?, r?, mat))
+                let (centre, radius) = (c?, r?);
+                self.light_surface = Some(LightSurface::Disc {
+                    centre,
+                    normal: DVec3::Z,
+                    u: DVec3::X * radius,
+                    v: DVec3::Y * radius,
+                    radius,
+                });
+                Box::new(Disc::new(centre, radius, mat))
             }
             "triangle" => {
                 let a = self.required_vec3(p, "a", kw);
@@ -533,6 +573,11 @@ impl Builder<'_> {
                     );
                     return None;
                 }
+                self.light_surface = Some(LightSurface::Rectangle {
+                    corner: bl,
+                    edge_u: br - bl,
+                    edge_v: tl - bl,
+                });
                 Box::new(Rectangle::new(bl, tl, br, mat))
             }
             "torus" => {

@@ -107,6 +107,8 @@ impl Schema {
 pub fn canonical(name: &str) -> &str {
     match name {
         "color" | "texture" => "colour",
+        "specular_color" => "specular_colour",
+        "mirror_color" => "mirror_colour",
         "center" => "centre",
         n => n,
     }
@@ -121,6 +123,8 @@ pub const CAMERA: Schema = Schema {
         spec("distance", 1, "a number"),
         spec("width", 1, "a number"),
         spec("height", 1, "a number"),
+        spec("aperture", 1, "the lens radius (0 for a pinhole)"),
+        spec("focus", 1, "the distance that is sharp"),
     ],
     object: false,
     children: false,
@@ -134,6 +138,12 @@ pub const RENDER: Schema = Schema {
         spec("background", 1, "a colour"),
         spec("samples", 1, "a whole number of samples per pixel side"),
         spec("gamma", 1, "`srgb`, `linear` or a number"),
+        spec(
+            "sampler",
+            1,
+            "`regular`, `random`, `jittered` or `multijittered`",
+        ),
+        spec("seed", 1, "a whole number"),
     ],
     object: false,
     children: false,
@@ -144,6 +154,14 @@ pub const LIGHT: Schema = Schema {
         spec("position", 1, "a 3-vector"),
         spec("colour", 1, "a colour"),
         spec("intensity", 1, "a number"),
+        spec(
+            "direction",
+            1,
+            "a 3-vector (the way a parallel light shines)",
+        ),
+        spec("look_at", 1, "a 3-vector (where a spot light points)"),
+        spec("angle", 1, "the spot's full-light half-angle in degrees"),
+        spec("falloff", 1, "the spot's outer half-angle in degrees"),
     ],
     object: false,
     children: false,
@@ -156,6 +174,65 @@ pub const MATERIAL: Schema = Schema {
             "a colour or a texture (`checker`, `checker3d`, `image`, `marble`, `wood`)",
         ),
         spec("reflect", 1, "a number from 0 to 1"),
+        spec("diffuse", 1, "a number, 0 or more"),
+        spec("ambient", 1, "a number, 0 or more"),
+        spec("specular", 1, "a number, 0 or more"),
+        spec("shininess", 1, "a Phong exponent, greater than 0"),
+        spec("specular_colour", 1, "a colour"),
+        spec("mirror", 1, "a number, 0 or more"),
+        spec("mirror_colour", 1, "a colour"),
+        spec("glossy", 1, "a lobe exponent, greater than 0"),
+        spec(
+            "refract",
+            1,
+            "a block `{ ior …  filter …  outside_ior …  outside_filter … }`",
+        ),
+        spec("emit", 1, "a colour"),
+        spec("intensity", 1, "a number, 0 or more (scales `emit`)"),
+    ],
+    object: false,
+    children: false,
+};
+
+pub const REFRACT: Schema = Schema {
+    own: &[
+        spec("ior", 1, "an index of refraction, greater than 0"),
+        spec("filter", 1, "a colour (transmittance per unit length)"),
+        spec("outside_ior", 1, "an index of refraction, greater than 0"),
+        spec("outside_filter", 1, "a colour"),
+    ],
+    object: false,
+    children: false,
+};
+
+pub const ENVIRONMENT: Schema = Schema {
+    own: &[
+        spec("colour", 1, "a colour"),
+        spec("intensity", 1, "a number, 0 or more"),
+        spec(
+            "samples",
+            1,
+            "a whole number of directions per shading point",
+        ),
+        spec(
+            "image",
+            1,
+            "a file name (an HDR or EXR sky, latitude-longitude)",
+        ),
+    ],
+    object: false,
+    children: false,
+};
+
+pub const OCCLUSION: Schema = Schema {
+    own: &[
+        spec(
+            "samples",
+            1,
+            "a whole number of directions per shading point",
+        ),
+        spec("min", 1, "a number from 0 to 1"),
+        spec("distance", 1, "a distance, greater than 0"),
     ],
     object: false,
     children: false,

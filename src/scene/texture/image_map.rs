@@ -150,10 +150,22 @@ impl ImageTexture {
         let decoded = crate::guard::catch_quietly(|| reader.decode()).ok_or_else(|| {
             ImageError::Decode("the file is malformed (the decoder gave up)".into())
         })?;
-        let img = decoded
-            .map_err(|e| ImageError::Decode(e.to_string()))?
-            .to_rgb8();
-        Ok(Self::from_rgb8(&img, transfer, mapping))
+        let decoded = decoded.map_err(|e| ImageError::Decode(e.to_string()))?;
+        // Floating-point images (EXR, Radiance HDR) hold linear radiance:
+        // kept as they are, above 1 too (a sky's sun).
+        if matches!(
+            decoded,
+            image::DynamicImage::ImageRgb32F(_) | image::DynamicImage::ImageRgba32F(_)
+        ) {
+            let img = decoded.to_rgb32f();
+            return Ok(ImageTexture {
+                width: img.width(),
+                height: img.height(),
+                pixels: img.pixels().map(|p| p.0).collect(),
+                mapping,
+            });
+        }
+        Ok(Self::from_rgb8(&decoded.to_rgb8(), transfer, mapping))
     }
 
     pub fn from_rgb8(img: &image::RgbImage, transfer: Transfer, mapping: UvMapping) -> Self {

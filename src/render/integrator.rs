@@ -1,0 +1,335 @@
+//! The Whitted recursion of the course's 2017 and 2018 models: at each hit
+//! it asks the material's parts (render/material/) what they reflect,
+//! transmit and emit, asks the lights (render/light/) what arrives, and
+//! casts the shadow, mirror, glossy and refracted rays.
+//!
+//! ```text
+//! pixel = emitted
+//!       + c ⊙ (k_a L_ambient·occlusion + Σ lights k_d E T (n·l)⁺ + k_d L_env·escaping)
+//!       + Σ lights k_s c_s (r·v)⁺^e E T (n·l)⁺                        (Phong)
+//!       + k_r c_r ⊙ L(mirror or glossy direction)
+//!       + k_r f_out^s_r ⊙ L(reflected) + (k_t/η²) f_in^s_t ⊙ L(refracted)   (dielectric)
+//! then, with the 2017 `reflect R`: (1 − R)·pixel + R·L(mirror direction)
+//! ```
+//! T is the shadow ray's transmittance: 1 or 0, or through glass the
+//! filters^chord (no bending, no Fresnel loss: tinted shadows without
+//! caustics, as POV-Ray does). Surfaces are two-sided: n is turned to face
+//! the ray. Every secondary ray starts through [`Integrator::spawn`].
+
+use super::light::{self, LightSample, area, environment};
+use super::material::{dielectric, emissive, glossy, matte, mirror, phong};
+use super::sampler::SampleStream;
+use super::stats::RayCounts;
+use crate::accel::World;
+use crate::geometry::rounding::SHADOW_EPSILON;
+use crate::geometry::{DVec3, Ray, offset_ray_origin, surface_epsilon, valid_reflection_normal};
+use crate::scene::{Colour, Material, Scene};
+
+/// A shadow ray through glass stops being followed after this many
+/// surfaces (it is then taken as blocked): bounded time for any scene.
+const MAX_SHADOW_SURFACES: u32 = 32;
+
+pub struct Integrator<'a> {
+    scene: &'a Scene,
+    world: &'a World,
+    /// Whether any material is a dielectric (shadow rays then look for glass).
+    has_glass: bool,
+    /// The camera's view of the sky when nothing is hit.
+    background: Colour,
+}
+
+/// What one path carries: its random numbers and its ray counts.
+pub struct Path<'s> {
+    pub stream: SampleStream,
+    pub counts: &'s mut RayCounts,
+}
+
+impl<'a> Integrator<'a> {
+    pub fn new(scene: &'a Scene, world: &'a World) -> Self {
+        Integrator {
+            scene,
+            world,
+            has_glass: scene.materials.iter().any(|m| m.refract.is_some()),
+            background: scene.settings.background,
+        }
+    }
+
+    /// THE place a secondary ray leaves a surface: the hit point moved off
+    /// the surface by its error bound, to the side of the geometric surface
+    /// that `dir` goes to (`offset_ray_origin`, docs/architecture.md,
+    /// "Rounding error and ray offsets"); refracted rays so start on the far side.
+    fn spawn_origin(at: &Shading, dir: DVec3) -> DVec3 {
+        offset_ray_origin(at.p, at.p_err, at.ng, dir)
+    }
+
+    /// A secondary ray from the shading point along unit `dir`.
+    fn spawn(at: &Shading, dir: DVec3) -> Ray {
+        Ray::new(Self::spawn_origin(at, dir), dir)
+    }
+
+    /// Colour seen along `ray` (unit direction), after `depth` bounces.
+    pub fn trace(&self, ray: &Ray, depth: u32, path: &mut Path) -> Colour {
+        self.trace_far(ray, depth, path).0
+    }
+
+    /// [`Integrator::trace`] and how far the ray went before its hit (∞ on
+    /// a miss), for Beer absorption along it.
+    fn trace_far(&self, ray: &Ray, depth: u32, path: &mut Path) -> (Colour, f64) {
+        if depth == 0 {
+            path.counts.primary += 1;
+        } else {
+            path.counts.reflected += 1;
+        }
+        let Some((mut hit, object)) = self.world.nearest(ray, 0.0, f64::INFINITY) else {
+            return (self.miss(ray.dir), f64::INFINITY);
+        };
+        let material = &self.scene.materials[hit.material as usize];
+        if material.texture.reads_uv() {
+            hit.uv = object.uv(&hit);
+        }
+        // The geometric normal decides the side; the shading normal is kept
+        // in its hemisphere.
+        let mut ng = hit.geo_normal.normalize_or_zero();
+        let front = ng.dot(ray.dir) <= 0.0;
+        if !front {
+            ng = -ng;
+        }
+        let mut n = hit.normal.normalize_or(ng);
+        if n.dot(ng) < 0.0 {
+            n = -n;
+        }
+        let (p, p_err) = (hit.point, hit.p_error);
+        let at = Shading {
+            p,
+            p_err,
+            ng,
+            n,
+            d: ray.dir,
+            lifted: offset_ray_origin(p, p_err, ng, ng),
+            front,
+        };
+        let c = self.shade(material, &hit, &at, depth, path);
+        (c, hit.t)
+    }
+
+    /// What a ray that hits nothing sees: the sky, or the background.
+    fn miss(&self, dir: DVec3) -> Colour {
+        match &self.scene.environment {
+            Some(env) if env.visible && env.image.is_some() => env.radiance(dir),
+            _ => self.background,
+        }
+    }
+
+    /// Every part of `m` at one shading point.
+    fn shade(
+        &self,
+        m: &Material,
+        hit: &crate::shapes::Hit,
+        at: &Shading,
+        depth: u32,
+        path: &mut Path,
+    ) -> Colour {
+        let deeper = depth < self.scene.settings.max_depth;
+        let mut out = if matte::reflects(m) || m.phong.is_some() {
+            self.local(m, hit, at, path)
+        } else {
+            Colour::ZERO
+        };
+        if m.emits() {
+            out += emissive::emitted(m, at.front);
+        }
+        if m.mirror != Colour::ZERO && deeper {
+            let dir = match m.glossy {
+                Some(e) => glossy::direction(at.d, at.n, e, path.stream.next2()),
+                None => at.mirror_dir(),
+            };
+            out += m.mirror * self.trace(&Self::spawn(at, dir), depth + 1, path);
+        }
+        if let Some(d) = &m.refract
+            && deeper
+        {
+            out += self.dielectric(d, at, depth, path);
+        }
+        let r = m.reflect;
+        if r <= 0.0 {
+            return out;
+        }
+        let reflected = if deeper {
+            self.trace(&Self::spawn(at, at.mirror_dir()), depth + 1, path)
+        } else {
+            Colour::ZERO
+        };
+        mirror::mix(out, reflected, r)
+    }
+
+    /// The matte and Phong parts: c ⊙ (light arriving) + highlights.
+    fn local(
+        &self,
+        m: &Material,
+        hit: &crate::shapes::Hit,
+        at: &Shading,
+        path: &mut Path,
+    ) -> Colour {
+        let mut ambient = self.scene.ambient;
+        if let Some(o) = &self.scene.occlusion
+            && ambient != Colour::ZERO
+        {
+            ambient *= environment::escaping(at.n, o.samples, &mut path.stream, o.min, |dir| {
+                path.counts.shadow += 1;
+                self.world
+                    .occludes(&Ray::new(at.lifted, dir), 0.0, o.distance)
+            });
+        }
+        let mut light = matte::ambient(m, ambient);
+        let mut highlight = Colour::ZERO;
+        let v = -at.d;
+        let mut add = |s: LightSample, path: &mut Path| {
+            let cos = at.n.dot(s.dir);
+            if cos <= 0.0 {
+                return;
+            }
+            // An occluder counts up to the light less a sliver of the way
+            // (the light may lie on a surface: an area light's sample).
+            let reach = s.dist * (1.0 - SHADOW_EPSILON);
+            let t = self.transmittance(&Ray::new(at.lifted, s.dir), reach, path.counts);
+            if t == Colour::ZERO {
+                return;
+            }
+            let e = s.radiance * t;
+            light += matte::diffuse(m, e, cos);
+            if let Some(ph) = &m.phong {
+                highlight += phong::highlight(ph, at.n, v, s.dir, e);
+            }
+        };
+        for l in &self.scene.lights {
+            if let Some(s) = light::sample(l, at.lifted) {
+                add(s, path);
+            }
+        }
+        for l in &self.scene.area_lights {
+            match l.samples {
+                None => {
+                    let u = path.stream.next2();
+                    if let Some(s) = area::sample(l, at.lifted, u) {
+                        add(s, path);
+                    }
+                }
+                Some(k) => {
+                    // Its own k × k grid of cell centres, averaged.
+                    let w = 1.0 / (k * k) as f64;
+                    for j in 0..k {
+                        for i in 0..k {
+                            let u = ((i as f64 + 0.5) / k as f64, (j as f64 + 0.5) / k as f64);
+                            if let Some(mut s) = area::sample(l, at.lifted, u) {
+                                s.radiance *= w;
+                                add(s, path);
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        if let Some(env) = &self.scene.environment
+            && m.diffuse > 0.0
+        {
+            let sky = environment::gather(env, at.n, &mut path.stream, |dir| {
+                path.counts.shadow += 1;
+                self.world
+                    .occludes(&Ray::new(at.lifted, dir), 0.0, f64::INFINITY)
+            });
+            light += sky * m.diffuse;
+        }
+        let local = m.texture.colour_at(hit) * light;
+        if m.phong.is_some() {
+            local + highlight
+        } else {
+            local
+        }
+    }
+
+    /// Fresnel reflection plus refraction, with Beer absorption.
+    fn dielectric(
+        &self,
+        d: &crate::scene::Dielectric,
+        at: &Shading,
+        depth: u32,
+        path: &mut Path,
+    ) -> Colour {
+        let side = dielectric::Interface::new(d, at.front);
+        let split = dielectric::split(at.d, at.n, side.eta);
+        let reflect_dir = mirror::reflect(at.d, at.n);
+        let (lr, sr) = self.trace_far(&Self::spawn(at, reflect_dir), depth + 1, path);
+        let mut out = split.kr * dielectric::absorb(side.filter_here, sr) * lr;
+        if let Some(t) = split.refracted {
+            // The refracted ray leaves on the far side.
+            let ray = Self::spawn(at, t);
+            let (lt, st) = self.trace_far(&ray, depth + 1, path);
+            let kt = (1.0 - split.kr) / (side.eta * side.eta);
+            out += kt * dielectric::absorb(side.filter_there, st) * lt;
+        }
+        out
+    }
+
+    /// What of a light's colour gets through along `ray` up to `dist`:
+    /// one for a clear path, zero when something opaque is in the way, and
+    /// through glass each medium's filter to the length travelled in it.
+    fn transmittance(&self, ray: &Ray, dist: f64, counts: &mut RayCounts) -> Colour {
+        counts.shadow += 1;
+        if !self.has_glass {
+            return if self.world.occludes(ray, 0.0, dist) {
+                Colour::ZERO
+            } else {
+                Colour::ONE
+            };
+        }
+        let mut t = Colour::ONE;
+        let mut from = 0.0;
+        for _ in 0..MAX_SHADOW_SURFACES {
+            let Some(hit) = self.world.intersect(ray, from, dist) else {
+                return t;
+            };
+            let Some(glass) = &self.scene.materials[hit.material as usize].refract else {
+                return Colour::ZERO;
+            };
+            // Leaving: the stretch before was inside; entering: outside.
+            let leaving = hit.normal.dot(ray.dir) > 0.0;
+            let filter = if leaving {
+                glass.filter
+            } else {
+                glass.outside_filter
+            };
+            t *= dielectric::absorb(filter, hit.t - from);
+            if t == Colour::ZERO {
+                return t;
+            }
+            let p = ray.at(hit.t);
+            from = hit.t + surface_epsilon(p);
+        }
+        Colour::ZERO
+    }
+}
+
+/// One shading point.
+struct Shading {
+    p: DVec3,
+    /// The bound on `p`'s rounding error, per coordinate.
+    p_err: DVec3,
+    /// Unit geometric normal facing the ray.
+    ng: DVec3,
+    /// Unit normal facing the ray.
+    n: DVec3,
+    /// The incoming ray's unit direction.
+    d: DVec3,
+    /// p moved off the surface on the ray's side (where shadow rays start).
+    lifted: DVec3,
+    /// Whether the ray met the outward side.
+    front: bool,
+}
+
+impl Shading {
+    /// The mirror direction, by the shading normal tilted (Cycles' rule)
+    /// so that it never goes below the geometric surface.
+    fn mirror_dir(&self) -> DVec3 {
+        mirror::reflect(self.d, valid_reflection_normal(self.ng, -self.d, self.n))
+    }
+}

@@ -1,0 +1,60 @@
+//! A spot light: a point light whose light is full inside a cone of
+//! half-angle `angle` about its axis, fades with a smoothstep of the cosine
+//! to nothing at `falloff`, and is zero outside.
+//!
+//! ```text
+//! light { position <0, 8, 0>  look_at <0, 0, 0>  angle 25  falloff 35  intensity 1.5 }
+//! ```
+
+use super::LightSample;
+use crate::geometry::DVec3;
+use crate::scene::Colour;
+
+/// The fraction of the spot's light sent along a direction whose cosine
+/// to the axis is `cos`.
+pub fn cone(cos: f64, cos_angle: f64, cos_falloff: f64) -> f64 {
+    if cos >= cos_angle {
+        1.0
+    } else if cos <= cos_falloff {
+        0.0
+    } else {
+        let t = (cos - cos_falloff) / (cos_angle - cos_falloff);
+        t * t * (3.0 - 2.0 * t)
+    }
+}
+
+pub fn sample(
+    position: DVec3,
+    axis: DVec3,
+    cos_angle: f64,
+    cos_falloff: f64,
+    colour: Colour,
+    from: DVec3,
+) -> Option<LightSample> {
+    let to_light = position - from;
+    let dist = to_light.length();
+    let dir = to_light / dist;
+    let k = cone(-dir.dot(axis), cos_angle, cos_falloff);
+    (k > 0.0).then_some(LightSample {
+        dir,
+        dist,
+        radiance: colour * k,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn full_inside_nothing_outside_smooth_between() {
+        let (a, f) = (25f64.to_radians().cos(), 35f64.to_radians().cos());
+        assert_eq!(cone(1.0, a, f), 1.0);
+        assert_eq!(cone(40f64.to_radians().cos(), a, f), 0.0);
+        let mid = cone(30f64.to_radians().cos(), a, f);
+        assert!(mid > 0.0 && mid < 1.0);
+        let s = sample(DVec3::Y * 8.0, -DVec3::Y, a, f, Colour::ONE, DVec3::ZERO).unwrap();
+        assert_eq!(s.radiance, Colour::ONE);
+        assert!(sample(DVec3::Y * 8.0, -DVec3::Y, a, f, Colour::ONE, DVec3::X * 8.0).is_none());
+    }
+}

@@ -1,0 +1,162 @@
+//! Dielectrics (glass, water): Fresnel reflection and refraction, total
+//! internal reflection, and Beer absorption along the path inside.
+//!
+//! ```text
+//! material glass { refract { ior 1.5  filter rgb(0.9, 1, 0.95) }  specular 1  shininess 300 }
+//! material water { refract { ior 1.33  outside_ior 1.5 } }   // water inside a glass
+//! ```
+//! For a ray d meeting a surface with ior η_in inside and η_out outside
+//! (when the ray leaves, both iors, both filters and n swap): η = η_in/η_out,
+//! cos_i = −d·n, cos²_t = 1 − (1 − cos²_i)/η²; below 0 is total internal
+//! reflection. Fresnel (unpolarised, exact):
+//! r∥ = (η cos_i − cos_t)/(η cos_i + cos_t), r⊥ = (cos_i − η cos_t)/(cos_i + η cos_t),
+//! k_r = (r∥² + r⊥²)/2, k_t = 1 − k_r, t = d/η − (cos_t − cos_i/η) n.
+//! Result: k_r · f_out^s_r ⊙ L(reflected) + (k_t/η²) · f_in^s_t ⊙ L(refracted),
+//! s the distance each ray travels to its next hit (Beer's law, filter^s).
+
+use crate::geometry::DVec3;
+use crate::scene::{Colour, Dielectric};
+
+/// The two sides of the surface as this ray meets them.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Interface {
+    /// η = η_(side entered) / η_(side the ray is on).
+    pub eta: f64,
+    /// Filter of the medium the ray is in (its reflection stays there).
+    pub filter_here: Colour,
+    /// Filter of the medium a refracted ray enters.
+    pub filter_there: Colour,
+}
+
+impl Interface {
+    /// `entering`: the ray meets the outward side.
+    pub fn new(d: &Dielectric, entering: bool) -> Interface {
+        if entering {
+            Interface {
+                eta: d.ior / d.outside_ior,
+                filter_here: d.outside_filter,
+                filter_there: d.filter,
+            }
+        } else {
+            Interface {
+                eta: d.outside_ior / d.ior,
+                filter_here: d.filter,
+                filter_there: d.outside_filter,
+            }
+        }
+    }
+}
+
+/// What happens at the surface: reflectance and, unless there is total
+/// internal reflection, the refracted direction.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Split {
+    pub kr: f64,
+    pub refracted: Option<DVec3>,
+}
+
+/// Fresnel and Snell for the unit direction `d` at the facing unit normal
+/// `n` (n·d ≤ 0), relative index `eta`.
+pub fn split(d: DVec3, n: DVec3, eta: f64) -> Split {
+    let cos_i = (-d.dot(n)).clamp(0.0, 1.0);
+    let cos2_t = 1.0 - (1.0 - cos_i * cos_i) / (eta * eta);
+    if cos2_t < 0.0 {
+        return Split {
+            kr: 1.0,
+            refracted: None,
+        };
+    }
+    let cos_t = cos2_t.sqrt();
+    let r_par = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
+    let r_perp = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
+    let kr = 0.5 * (r_par * r_par + r_perp * r_perp);
+    let t = d / eta - (cos_t - cos_i / eta) * n;
+    Split {
+        kr,
+        refracted: Some(t.normalize()),
+    }
+}
+
+/// Beer's law: what is left of light after `distance` in a medium of
+/// `filter` per unit length. An unbounded path (the ray escaped) keeps
+/// only the channels that are fully clear.
+pub fn absorb(filter: Colour, distance: f64) -> Colour {
+    if filter == Colour::ONE {
+        return Colour::ONE;
+    }
+    Colour::new(
+        filter.x.powf(distance),
+        filter.y.powf(distance),
+        filter.z.powf(distance),
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fresnel_is_four_percent_at_normal_incidence_for_1_5() {
+        let s = split(-DVec3::Y, DVec3::Y, 1.5);
+        assert!((s.kr - 0.04).abs() < 1e-12, "{}", s.kr);
+        assert_eq!(s.refracted, Some(-DVec3::Y));
+        // The same leaving the glass.
+        let s = split(-DVec3::Y, DVec3::Y, 1.0 / 1.5);
+        assert!((s.kr - 0.04).abs() < 1e-12);
+    }
+
+    #[test]
+    fn total_internal_reflection_past_the_critical_angle() {
+        let critical = (1.0f64 / 1.5).asin();
+        let at = |a: f64| split(DVec3::new(a.sin(), -a.cos(), 0.0), DVec3::Y, 1.0 / 1.5);
+        let below = at(critical - 0.01);
+        assert!(below.refracted.is_some() && below.kr < 1.0);
+        let past = at(critical + 0.01);
+        assert_eq!(past.refracted, None);
+        assert_eq!(past.kr, 1.0);
+        // Just below it, almost everything is reflected already.
+        assert!(at(critical - 1e-6).kr > 0.9);
+    }
+
+    #[test]
+    fn snell_holds_for_the_refracted_direction() {
+        let a: f64 = 0.6;
+        let s = split(DVec3::new(a.sin(), -a.cos(), 0.0), DVec3::Y, 1.33);
+        let t = s.refracted.unwrap();
+        assert!((a.sin() - 1.33 * t.x).abs() < 1e-12, "sin θi = η sin θt");
+        assert!(t.y < 0.0);
+        // Reflectance rises towards grazing.
+        let g = split(
+            DVec3::new(0.999f64.sin(), -0.999f64.cos(), 0.0),
+            DVec3::Y,
+            1.33,
+        );
+        assert!(g.kr > s.kr);
+    }
+
+    #[test]
+    fn beer_multiplies_by_filter_to_the_distance() {
+        let f = Colour::new(0.5, 0.25, 1.0);
+        let a = absorb(f, 2.0);
+        assert!((a - Colour::new(0.25, 0.0625, 1.0)).abs().max_element() < 1e-15);
+        // Two halves make the whole.
+        assert!((absorb(f, 1.0) * absorb(f, 1.0) - a).abs().max_element() < 1e-15);
+        let gone = absorb(f, f64::INFINITY);
+        assert_eq!(gone, Colour::new(0.0, 0.0, 1.0));
+    }
+
+    #[test]
+    fn sides_swap_on_the_way_out() {
+        let d = Dielectric {
+            ior: 1.5,
+            filter: Colour::splat(0.5),
+            outside_ior: 1.33,
+            outside_filter: Colour::splat(0.9),
+        };
+        let i = Interface::new(&d, true);
+        let o = Interface::new(&d, false);
+        assert!((i.eta * o.eta - 1.0).abs() < 1e-15);
+        assert_eq!(i.filter_there, o.filter_here);
+        assert_eq!(i.filter_here, Colour::splat(0.9));
+    }
+}

@@ -1,0 +1,164 @@
+//! Emissive spheres, discs and rectangles become area lights: the shape's
+//! surface is carried into world space by the object's transforms (any
+//! affine map for discs and rectangles, which stay flat; a sphere must keep
+//! its shape) and its `samples` read.
+//!
+//! ```text
+//! rectangle { bottom_left <-1, 6, 0>  top_left <-1, 6, 2>  bottom_right <1, 6, 0>  material lamp  samples 8 }
+//! ```
+
+use super::Builder;
+use super::params::Params;
+use crate::geometry::{DVec3, Transform};
+use crate::lang::ast::{Span, Spanned};
+use crate::lang::diagnostics::Error;
+use crate::scene::{AreaLight, LightSurface, MaterialId};
+
+/// Most grid points per side of an area light (`samples 32` is 1024 shadow
+/// rays per shading point).
+pub const MAX_LIGHT_SAMPLES: u32 = 32;
+
+/// `surface` moved by `xf`, or `None` when it cannot stay that shape.
+fn moved(surface: &LightSurface, xf: &Transform) -> Option<LightSurface> {
+    Some(match surface {
+        LightSurface::Sphere { centre, radius } => {
+            let (a, b, c) = (
+                xf.vector(DVec3::X),
+                xf.vector(DVec3::Y),
+                xf.vector(DVec3::Z),
+            );
+            let s = a.length();
+            let tol = 1e-9 * s;
+            let similar = (b.length() - s).abs() <= tol
+                && (c.length() - s).abs() <= tol
+                && a.dot(b).abs() <= tol * s
+                && a.dot(c).abs() <= tol * s
+                && b.dot(c).abs() <= tol * s;
+            if !similar {
+                return None;
+            }
+            LightSurface::Sphere {
+                centre: xf.point(*centre),
+                radius: radius * s,
+            }
+        }
+        LightSurface::Disc {
+            centre,
+            normal,
+            u,
+            v,
+            radius,
+        } => {
+            let (u2, v2) = (xf.vector(*u), xf.vector(*v));
+            LightSurface::Disc {
+                centre: xf.point(*centre),
+                normal: xf.normal(*normal).normalize(),
+                u: u2,
+                v: v2,
+                radius: radius * u2.length() / u.length(),
+            }
+        }
+        LightSurface::Rectangle {
+            corner,
+            edge_u,
+            edge_v,
+        } => {
+            let (eu, ev) = (xf.vector(*edge_u), xf.vector(*edge_v));
+            let n = xf.normal(edge_u.cross(*edge_v));
+            // Keep edge_u × edge_v along the shape's own normal (a mirror
+            // transform would turn it over).
+            let (eu, ev) = if eu.cross(ev).dot(n) < 0.0 {
+                (ev, eu)
+            } else {
+                (eu, ev)
+            };
+            LightSurface::Rectangle {
+                corner: xf.point(*corner),
+                edge_u: eu,
+                edge_v: ev,
+            }
+        }
+    })
+}
+
+impl Builder<'_> {
+    /// After a primitive is built: makes it an area light when its material
+    /// emits and it is a sphere, disc or rectangle outside CSG; reads its
+    /// `samples`.
+    pub(super) fn area_light(
+        &mut self,
+        kw: &Spanned<String>,
+        p: &mut Params,
+        local: Option<LightSurface>,
+        material: MaterialId,
+        xf: &Transform,
+        in_csg: bool,
+    ) {
+        let samples = p.take("samples");
+        let m = &self.scene.materials[material as usize];
+        let emit = m.emit;
+        let n = match &samples {
+            Some(q) => match self.integer(&q.values[0], 1, MAX_LIGHT_SAMPLES) {
+                Some(n) => Some((n, q.name.span)),
+                None => return,
+            },
+            None => None,
+        };
+        let Some(local) = local.filter(|_| emit != crate::scene::Colour::ZERO && !in_csg) else {
+            if let Some((_, at)) = n {
+                self.samples_unused(at, in_csg);
+            }
+            return;
+        };
+        let Some(surface) = moved(&local, xf) else {
+            self.err(
+                Error::new(
+                    kw.span,
+                    "an emissive sphere must stay a sphere to light the scene",
+                )
+                .label("scaled unevenly or sheared")
+                .help("scale it by one number, or use a disc or rectangle as the light"),
+            );
+            return;
+        };
+        self.scene.area_lights.push(AreaLight {
+            surface,
+            emit,
+            samples: n.map(|n| n.0),
+            two_sided: false,
+        });
+    }
+
+    /// The area lights of an object value, placed by `xf`.
+    pub(super) fn place_area_lights(&mut self, lights: &[AreaLight], xf: &Transform, at: Span) {
+        for l in lights {
+            match moved(&l.surface, xf) {
+                Some(surface) => self.scene.area_lights.push(AreaLight {
+                    surface,
+                    ..l.clone()
+                }),
+                None => self.err(
+                    Error::new(
+                        at,
+                        "an emissive sphere must stay a sphere to light the scene",
+                    )
+                    .label("scaled unevenly or sheared")
+                    .help("scale it by one number, or use a disc or rectangle as the light"),
+                ),
+            }
+        }
+    }
+
+    fn samples_unused(&mut self, at: Span, in_csg: bool) {
+        let why = if in_csg {
+            "inside CSG an emissive object glows but lights nothing"
+        } else {
+            "`samples` is for emissive spheres, discs and rectangles (area lights)"
+        };
+        self.err(
+            Error::new(at, "`samples` has no effect here")
+                .label("not an area light")
+                .help(why),
+        );
+    }
+}
