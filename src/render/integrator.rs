@@ -292,7 +292,7 @@ impl<'a> Integrator<'a> {
                 return Colour::ZERO;
             };
             // Leaving: the stretch before was inside; entering: outside.
-            let leaving = hit.normal.dot(ray.dir) > 0.0;
+            let leaving = hit.geo_normal.dot(ray.dir) > 0.0;
             let filter = if leaving {
                 glass.filter
             } else {
