@@ -40,6 +40,7 @@
 
 use super::{Crossing, Hit, Shape};
 use crate::geometry::{Aabb, DVec2, DVec3, Ray};
+use crate::scene::MaterialId;
 use std::cell::RefCell;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -62,6 +63,10 @@ pub struct Csg {
     bounds: Aabb,
     /// The same for the result's own bounds.
     extent: Reach,
+    /// The material the block gives its children (its own or inherited):
+    /// hits wearing it have their solid-texture point in this block's
+    /// space, see [`Csg::texture_space`].
+    texture_space: Option<MaterialId>,
 }
 
 /// One change of a child's inside flag along the line.
@@ -208,7 +213,34 @@ impl Csg {
             reach,
             bounds,
             extent,
+            texture_space: None,
         }
+    }
+
+    /// A texture given to a CSG block lives in the block's space (as in
+    /// POV-Ray): a solid pattern runs on through the seams between
+    /// children, whatever transforms place them. So every hit that wears
+    /// `material` (the block's own or the one it passes on) gets
+    /// [`Hit::local`] as the point in this block's space; a child that
+    /// names another material keeps its own. The (u, v) of such a hit is
+    /// worked out before its point moves (the child's shape reads its own
+    /// point for it). Nested blocks that pass the same material on end up
+    /// in the outermost one's space, as each level moves the point again.
+    pub fn texture_space(mut self, material: MaterialId) -> Self {
+        self.texture_space = Some(material);
+        self
+    }
+
+    /// Moves a hit of child `i` that wears the block's material into the
+    /// block's texture space (see [`Csg::texture_space`]).
+    fn in_texture_space(&self, ray: &Ray, mut h: Hit, i: usize) -> Hit {
+        if self.texture_space == Some(h.material) {
+            if h.path != LOST {
+                h.uv = self.children[i].uv(&h);
+            }
+            h.local = ray.at(h.t);
+        }
+        h
     }
 
     /// Whether a child contributes its inside (false) or cuts it away.
@@ -399,7 +431,8 @@ impl Csg {
                 if self.is_cutter(i) {
                     h.normal = -h.normal;
                 }
-                return Hit { path: LOST, ..h };
+                let h = Hit { path: LOST, ..h };
+                return self.in_texture_space(ray, h, i);
             }
         }
         Hit {
@@ -535,7 +568,7 @@ impl Csg {
             for i in bits(alone) {
                 if let Some(h) = self.children[i].intersect(ray, t_min, t_best) {
                     t_best = h.t;
-                    found = Some(self.tagged(h, i as u32));
+                    found = Some(self.tagged(self.in_texture_space(ray, h, i), i as u32));
                 }
             }
             let mut swept = None;
@@ -630,7 +663,7 @@ impl Shape for Csg {
         if self.is_cutter(i) {
             h.normal = -h.normal;
         }
-        self.tagged(h, i as u32)
+        self.tagged(self.in_texture_space(ray, h, i), i as u32)
     }
 
     fn bounds(&self) -> Aabb {
@@ -651,6 +684,10 @@ impl Shape for Csg {
     }
 
     fn uv(&self, hit: &Hit) -> DVec2 {
+        // Worked out already, before the point moved to this block's space.
+        if self.texture_space == Some(hit.material) {
+            return hit.uv;
+        }
         let n = self.children.len() as u64;
         if hit.path == LOST || n == 0 {
             return DVec2::ZERO;

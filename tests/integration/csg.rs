@@ -291,3 +291,70 @@ light {{ position <0, 0, 0> }}
     let centre = group.get(15, 10);
     assert!(centre[0] > 0.5 && centre[1] == 0.0, "{centre:?}");
 }
+
+/// An implicit whose `bounded_by` box cuts it is the solid "equation < 0
+/// inside the box": in CSG the box faces where it is cut are surfaces, so
+/// the implicit cylinder, cone and frustum cut by their boxes are the
+/// capped primitives. Before, a ray entering the box where the equation is
+/// negative got no entering crossing and the caps (and the fronts behind
+/// them) were lost.
+#[test]
+fn bounded_implicit_cut_by_its_box_equals_its_primitive_twin() {
+    let twins = [
+        (
+            // Radius 1, y from −1 to 1.
+            r#"implicit "x^2 + z^2 - 1" { bounded_by <-2, -1, -2> <2, 1, 2>  material a }"#,
+            "cylinder { radius 1  height 2  material a }",
+        ),
+        (
+            // Base radius 1 at y = −1, apex at y = 1: radius (1 − y)/2.
+            r#"implicit "x^2 + z^2 - ((1 - y)/2)^2" { bounded_by <-2, -1, -2> <2, 1, 2>  material a }"#,
+            "cone { radius 1  height 2  material a }",
+        ),
+        (
+            // Radius 1 at y = −1 to 0.5 at y = 1: radius (3 − y)/4.
+            r#"implicit "x^2 + z^2 - ((3 - y)/4)^2" { bounded_by <-2, -1, -2> <2, 1, 2>  material a }"#,
+            "cone { radius 1  top_radius 0.5  height 2  material a }",
+        ),
+    ];
+    for (implicit, primitive) in twins {
+        // Inside a union with nothing else, tilted so the caps face the
+        // camera; the primitive the same way.
+        let wrap = |s: &str| format!("{HEAD}\nunion {{ {s}  rotate x 35  rotate z 20 }}");
+        let (i, p) = (objects(&wrap(implicit)), objects(&wrap(primitive)));
+        let (mut caps, mut checked) = (0, 0);
+        for r in rays(DVec3::ZERO, 1.3, 2000, 0xca95) {
+            let (a, b) = (crossings(&*i[0], &r), crossings(&*p[0], &r));
+            assert!(
+                agree(&a, &b, &r, 1e-7),
+                "{implicit}\n{a:?}\nvs\n{b:?}\nfor {r:?}"
+            );
+            assert_alternating(&a, &r);
+            checked += a.len();
+            // Points on a cap: |y| = 1 in the solid's own frame, found as
+            // crossings whose normal is the tilted ±y axis.
+            use raytrace::geometry::Transform;
+            let tilt = Transform::rotate(DVec3::X, 35.0)
+                .and_then(|x| Some(x.then(&Transform::rotate(DVec3::Z, 20.0)?)))
+                .expect("rotations");
+            let y = tilt.vector(DVec3::Y);
+            caps += a
+                .iter()
+                .filter(|h| h.normal.normalize().dot(y).abs() > 1.0 - 1e-9)
+                .count();
+        }
+        assert!(
+            caps > 100 && checked > 1000,
+            "{implicit}: {caps} caps of {checked}"
+        );
+        // And the pictures agree.
+        let (fi, fp) = (render(&wrap(implicit)), render(&wrap(primitive)));
+        let differ = fi
+            .pixels
+            .iter()
+            .zip(&fp.pixels)
+            .filter(|(x, y)| (0..3).any(|k| (x[k] - y[k]).abs() > 1e-3))
+            .count();
+        assert_eq!(differ, 0, "{implicit}: {differ} pixels differ");
+    }
+}

@@ -8,6 +8,7 @@ mod golden;
 mod hostile;
 mod lang;
 mod mesh;
+mod placement;
 mod render;
 mod support;
 mod textures;
