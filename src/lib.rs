@@ -20,6 +20,10 @@ pub mod output;
 pub mod render;
 pub mod scene;
 pub mod shapes;
+#[cfg(test)]
+pub(crate) mod shared_data;
+#[cfg(test)]
+pub(crate) mod watchdog;
 
 use cli::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};

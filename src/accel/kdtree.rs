@@ -750,6 +750,7 @@ mod tests {
 
     #[test]
     fn empty_tree_finds_nothing() {
+        let _watchdog = crate::watchdog::start();
         let t = KdTree::build(&[]);
         let r = Ray::new(DVec3::ZERO, DVec3::X);
         assert!(
@@ -761,6 +762,7 @@ mod tests {
 
     #[test]
     fn splits_a_row_of_boxes_and_walks_front_to_back() {
+        let _watchdog = crate::watchdog::start();
         let centres: Vec<DVec3> = (0..100)
             .map(|i| DVec3::new(i as f64 * 3.0, 0.0, 0.0))
             .collect();
@@ -795,6 +797,7 @@ mod tests {
 
     #[test]
     fn rays_in_a_split_plane_see_both_sides() {
+        let _watchdog = crate::watchdog::start();
         // Two boxes meeting at x = 0; a ray lying in that plane along y.
         let boxes = vec![
             Aabb::new(DVec3::new(-1.0, 0.0, 0.0), DVec3::new(0.0, 1.0, 1.0)),

@@ -731,6 +731,7 @@ mod tests {
 
     #[test]
     fn union_with_itself_is_itself() {
+        let _watchdog = crate::watchdog::start();
         let a = || sphere(DVec3::new(0.2, 0.1, 0.0), 1.0, 1);
         let u = Csg::new(CsgOp::Union, vec![a(), a()]);
         let i = Csg::new(CsgOp::Intersection, vec![a(), a()]);
@@ -743,6 +744,7 @@ mod tests {
 
     #[test]
     fn intersection_commutes() {
+        let _watchdog = crate::watchdog::start();
         let ab = Csg::new(
             CsgOp::Intersection,
             vec![
@@ -771,6 +773,7 @@ mod tests {
 
     #[test]
     fn sphere_minus_larger_concentric_sphere_is_empty() {
+        let _watchdog = crate::watchdog::start();
         let d = Csg::new(
             CsgOp::Difference,
             vec![sphere(DVec3::ZERO, 1.0, 1), sphere(DVec3::ZERO, 1.5, 2)],
@@ -785,6 +788,7 @@ mod tests {
 
     #[test]
     fn difference_of_boxes_is_the_box_built_directly() {
+        let _watchdog = crate::watchdog::start();
         let d = Csg::new(
             CsgOp::Difference,
             vec![
@@ -821,6 +825,7 @@ mod tests {
 
     #[test]
     fn box_and_sphere_match_the_analytic_shape() {
+        let _watchdog = crate::watchdog::start();
         let b = (DVec3::new(-1.0, -0.8, -1.0), DVec3::new(1.0, 0.8, 0.6));
         let (c, rad) = (DVec3::new(0.1, 0.0, 0.0), 1.2);
         let inside_box = |p: DVec3| p.cmpgt(b.0).all() && p.cmplt(b.1).all();
@@ -853,6 +858,7 @@ mod tests {
 
     #[test]
     fn nearest_hit_in_any_window_is_the_first_crossing_there() {
+        let _watchdog = crate::watchdog::start();
         // intersect() leaves out children that miss its window; the answer
         // must still be the whole line's crossing list cut to the window.
         let shapes = [
@@ -897,6 +903,7 @@ mod tests {
 
     #[test]
     fn inside_a_union_only_the_outer_surface_shows() {
+        let _watchdog = crate::watchdog::start();
         let u = Csg::new(
             CsgOp::Union,
             vec![
@@ -918,6 +925,7 @@ mod tests {
 
     #[test]
     fn plane_is_a_half_space() {
+        let _watchdog = crate::watchdog::start();
         let cut = || Box::new(Plane::new(DVec3::Y, 0.0, 3)) as Box<dyn Shape>;
         // Sphere minus everything below y = 0: the upper hemisphere.
         let top = Csg::new(CsgOp::Difference, vec![sphere(DVec3::ZERO, 1.0, 1), cut()]);
@@ -956,6 +964,7 @@ mod tests {
 
     #[test]
     fn tangent_rays_do_not_fill_the_line() {
+        let _watchdog = crate::watchdog::start();
         let u = Csg::new(
             CsgOp::Union,
             vec![
@@ -974,6 +983,7 @@ mod tests {
 
     #[test]
     fn nested_and_transformed() {
+        let _watchdog = crate::watchdog::start();
         // The lantern: (box ∩ sphere) minus three crossed cylinders, turned.
         let cyl = |t: Transform| -> Box<dyn Shape> {
             Box::new(Transformed::new(
@@ -1028,6 +1038,7 @@ mod tests {
 
     #[test]
     fn uv_is_asked_of_the_shape_that_was_hit() {
+        let _watchdog = crate::watchdog::start();
         // A bitten ball in a union with a moved cylinder: each hit's (u, v)
         // must be what the leaf itself gives for that point.
         let ball = Sphere::new(DVec3::ZERO, 1.0, 1);
@@ -1070,6 +1081,7 @@ mod tests {
 
     #[test]
     fn nesting_too_deep_for_the_key_keeps_the_material() {
+        let _watchdog = crate::watchdog::start();
         // 70 unions of three children nest 3^70 > 2^64 keys deep: the key
         // overflows, and the hit must still be the right surface. The other
         // spheres lie further along the ray, so that every union sweeps.
@@ -1089,6 +1101,7 @@ mod tests {
 
     #[test]
     fn lite_crossings_rebuild_the_same_hits() {
+        let _watchdog = crate::watchdog::start();
         // Each shape's crossings_lite, made into hits by hit_of, must be its
         // crossings exactly; the torus uses the trait's default bodies.
         use crate::shapes::Torus;
@@ -1139,6 +1152,7 @@ mod tests {
 
     #[test]
     fn union_of_apart_children_agrees_with_the_sweep() {
+        let _watchdog = crate::watchdog::start();
         // Children whose reaches along a ray do not overlap are asked for
         // their nearest hit directly; that must be what the full crossing
         // list says, in any window, floor included.
@@ -1181,6 +1195,7 @@ mod tests {
 
     #[test]
     fn quick_clip_agrees_with_aabb_clip() {
+        let _watchdog = crate::watchdog::start();
         let b = Aabb::new(DVec3::new(-1.0, 0.0, -0.5), DVec3::new(1.0, 2.0, 0.5));
         let mut rays = testing::rays_towards(DVec3::new(0.0, 1.0, 0.0), 2.0, 500, 71);
         // Axis-parallel, one of them in the plane of a face.
@@ -1248,6 +1263,7 @@ mod tests {
 
     #[test]
     fn rendered_from_inside_a_union_and_a_group() {
+        let _watchdog = crate::watchdog::start();
         let two = || {
             vec![
                 sphere(DVec3::new(-0.5, 0.0, 0.0), 1.0, 1),
@@ -1268,6 +1284,7 @@ mod tests {
 
     #[test]
     fn rendered_union_with_itself_is_the_shape() {
+        let _watchdog = crate::watchdog::start();
         let lens = || -> Box<dyn Shape> {
             Box::new(Csg::new(
                 CsgOp::Intersection,

@@ -19,6 +19,7 @@ sphere { radius 1 }
 
 #[test]
 fn renders_a_png_of_the_requested_size() {
+    let _watchdog = crate::watchdog::start();
     let (dir, scene) = scene_file(SCENE);
     let out = dir.path().join("out.png");
     let o = raytrace(&[
@@ -37,6 +38,7 @@ fn renders_a_png_of_the_requested_size() {
 
 #[test]
 fn every_output_format_is_written() {
+    let _watchdog = crate::watchdog::start();
     let (dir, scene) = scene_file(SCENE);
     for ext in ["png", "jpg", "jpeg", "exr", "hdr", "ppm"] {
         let out = dir.path().join(format!("out.{ext}"));
@@ -52,6 +54,7 @@ fn every_output_format_is_written() {
 
 #[test]
 fn unknown_extension_fails_before_rendering_and_writes_nothing() {
+    let _watchdog = crate::watchdog::start();
     let (dir, scene) = scene_file(SCENE);
     let out = dir.path().join("out.gif");
     let o = raytrace(&[scene.as_os_str(), "-o".as_ref(), out.as_os_str()]);
@@ -63,6 +66,7 @@ fn unknown_extension_fails_before_rendering_and_writes_nothing() {
 
 #[test]
 fn a_bad_scene_leaves_an_existing_image_untouched() {
+    let _watchdog = crate::watchdog::start();
     let (dir, scene) = scene_file("sphere { radius 1 ");
     let out = dir.path().join("out.png");
     std::fs::write(&out, b"precious").unwrap();
@@ -74,6 +78,7 @@ fn a_bad_scene_leaves_an_existing_image_untouched() {
 
 #[test]
 fn check_builds_without_rendering() {
+    let _watchdog = crate::watchdog::start();
     let (_dir, scene) = scene_file(SCENE);
     let o = raytrace(&[scene.as_os_str(), "--check".as_ref()]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
@@ -84,6 +89,7 @@ fn check_builds_without_rendering() {
 
 #[test]
 fn stats_report_rays() {
+    let _watchdog = crate::watchdog::start();
     let (dir, scene) = scene_file(SCENE);
     let out = dir.path().join("out.png");
     let o = raytrace(&[
@@ -101,6 +107,7 @@ fn stats_report_rays() {
 
 #[test]
 fn bad_flags_are_refused() {
+    let _watchdog = crate::watchdog::start();
     let (dir, scene) = scene_file(SCENE);
     let out = dir.path().join("out.png");
     for flags in [
@@ -127,6 +134,7 @@ fn bad_flags_are_refused() {
 
 #[test]
 fn huge_images_are_refused_before_allocating() {
+    let _watchdog = crate::watchdog::start();
     let (dir, scene) = scene_file(SCENE);
     let out = dir.path().join("out.png");
     let o = raytrace(&[
@@ -146,6 +154,7 @@ fn huge_images_are_refused_before_allocating() {
 
 #[test]
 fn an_unbounded_implicit_surface_renders_with_a_warning() {
+    let _watchdog = crate::watchdog::start();
     let (dir, scene) = scene_file(
         "camera { position <0, 2, 5>  look_at <0, 0, 0> }\nrender { width 8  height 6 }\nimplicit \"y\" { }\n",
     );

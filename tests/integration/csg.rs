@@ -95,6 +95,7 @@ const PRIMITIVE_TORUS: &str = "torus { major 3  minor 0.5  material a  rotate x 
 
 #[test]
 fn implicit_torus_minus_box_agrees_with_torus_primitive_minus_box() {
+    let _watchdog = crate::watchdog::start();
     let implicit = objects(&torus_minus_box(COURSE_TORUS));
     let primitive = objects(&torus_minus_box(PRIMITIVE_TORUS));
     let (i, p) = (&*implicit[0], &*primitive[0]);
@@ -145,6 +146,7 @@ difference {{
 
 #[test]
 fn closed_mesh_sphere_minus_box_agrees_with_sphere_minus_box() {
+    let _watchdog = crate::watchdog::start();
     let ply = project_root().join("examples/meshes/icosphere.ply");
     let mesh = format!(r#"mesh "{}" {{ smooth  material a }}"#, ply.display());
     let m = objects(&ball_minus_box(&mesh));
@@ -182,6 +184,7 @@ fn closed_mesh_sphere_minus_box_agrees_with_sphere_minus_box() {
 /// and its crossings alternate. Every kind of solid the language has.
 #[test]
 fn every_solid_is_its_own_union_and_intersection() {
+    let _watchdog = crate::watchdog::start();
     let ply = project_root().join("examples/meshes/icosphere.ply");
     let solids = [
         "sphere { radius 1  material a }".to_string(),
@@ -224,6 +227,7 @@ fn every_solid_is_its_own_union_and_intersection() {
 /// predicate says so: (cone ∪ implicit ball) minus torus.
 #[test]
 fn mixed_solids_match_the_analytic_shape() {
+    let _watchdog = crate::watchdog::start();
     let src = format!(
         r#"{HEAD}
 difference {{
@@ -270,6 +274,7 @@ difference {{
 /// inside): the union shows only the far wall, a group also the inner one.
 #[test]
 fn from_inside_a_union_and_a_group_of_two_spheres() {
+    let _watchdog = crate::watchdog::start();
     let scene = |op: &str| {
         format!(
             "camera {{ position <0, 0, 0>  look_at <1, 0, 0>  fov 60 }}
@@ -300,6 +305,7 @@ light {{ position <0, 0, 0> }}
 /// them) were lost.
 #[test]
 fn bounded_implicit_cut_by_its_box_equals_its_primitive_twin() {
+    let _watchdog = crate::watchdog::start();
     let twins = [
         (
             // Radius 1, y from −1 to 1.

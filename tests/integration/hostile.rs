@@ -60,6 +60,7 @@ fn outcome(src: &str) -> Result<raytrace::render::Film, String> {
 
 #[test]
 fn binary_garbage_is_refused_as_not_text() {
+    let _watchdog = crate::watchdog::start();
     let dir = tempfile::tempdir().unwrap();
     let garbage = dir.path().join("garbage.rt");
     // A fixed pseudo-random byte stream (no seed to vary between runs).
@@ -82,6 +83,7 @@ fn binary_garbage_is_refused_as_not_text() {
 
 #[test]
 fn empty_and_blank_files_give_a_picture_or_a_diagnostic() {
+    let _watchdog = crate::watchdog::start();
     for src in [
         "",
         "\n\n\n",
@@ -98,6 +100,7 @@ fn empty_and_blank_files_give_a_picture_or_a_diagnostic() {
 
 #[test]
 fn a_ten_megabyte_line_is_read() {
+    let _watchdog = crate::watchdog::start();
     let long = format!(
         "camera {{ position <0, 0, 5> look_at <0, 0, 0> up <0, 1, 0> fov 40 }} sphere {{ radius 1 }} // {}",
         "x".repeat(10 << 20)
@@ -115,6 +118,7 @@ fn a_ten_megabyte_line_is_read() {
 
 #[test]
 fn deep_nesting_is_a_diagnostic_not_a_stack_overflow() {
+    let _watchdog = crate::watchdog::start();
     let n = 20_000;
     let cases = [
         format!(
@@ -159,6 +163,7 @@ fn deep_nesting_is_a_diagnostic_not_a_stack_overflow() {
 /// an infinite or NaN value: a diagnostic or a picture each time.
 #[test]
 fn infinite_and_nan_numbers_in_every_position() {
+    let _watchdog = crate::watchdog::start();
     let dir = tempfile::tempdir().unwrap();
     let mut scenes = Vec::new();
     for name in ["primitives.rt", "transforms.rt", "csg.rt"] {
@@ -225,6 +230,7 @@ fn number_spans(src: &str) -> Vec<(usize, usize)> {
 
 #[test]
 fn degenerate_geometry_gives_pictures_or_diagnostics() {
+    let _watchdog = crate::watchdog::start();
     let cam = "camera { position <0, 0, 5> look_at <0, 0, 0> up <0, 1, 0> fov 40 }\nlight { position <2, 5, 5> intensity 1 }\n";
     let shapes = [
         "sphere { radius 0 }",
@@ -280,6 +286,7 @@ fn degenerate_geometry_gives_pictures_or_diagnostics() {
 
 #[test]
 fn special_files_are_refused_not_read_forever() {
+    let _watchdog = crate::watchdog::start();
     let dir = tempfile::tempdir().unwrap();
     // A scene that is a folder, and one that is a device.
     let out = raytrace(&[dir.path().as_os_str(), "--check".as_ref()]);
@@ -307,6 +314,7 @@ fn special_files_are_refused_not_read_forever() {
 
 #[test]
 fn a_ply_header_claiming_a_trillion_vertices_allocates_nothing() {
+    let _watchdog = crate::watchdog::start();
     let ply = "ply\nformat ascii 1.0\nelement vertex 1000000000000\nproperty float x\nproperty float y\nproperty float z\nelement face 1000000000000\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n";
     assert!(raytrace::shapes::MeshData::from_bytes(ply.as_bytes()).is_err());
     let bin = ply.replace("ascii", "binary_little_endian");
@@ -315,6 +323,7 @@ fn a_ply_header_claiming_a_trillion_vertices_allocates_nothing() {
 
 #[test]
 fn texture_images_claiming_huge_sizes_are_refused() {
+    let _watchdog = crate::watchdog::start();
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("huge.ppm"), b"P6\n100000 100000\n255\n\0").unwrap();
     let e = outcome_at(
@@ -327,6 +336,7 @@ fn texture_images_claiming_huge_sizes_are_refused() {
 
 #[test]
 fn invalid_command_lines_are_clear_errors() {
+    let _watchdog = crate::watchdog::start();
     let (dir, scene) = scene_file(
         "camera { position <0, 0, 5> look_at <0, 0, 0> up <0, 1, 0> fov 40 }\nsphere { radius 1 }",
     );
@@ -369,6 +379,7 @@ fn invalid_command_lines_are_clear_errors() {
 /// leaves the existing image as it was and no temporary file.
 #[test]
 fn an_interrupted_render_leaves_the_old_image_and_no_temporary() {
+    let _watchdog = crate::watchdog::start();
     let (dir, scene) = scene_file(
         "camera { position <0, 0, 5> look_at <0, 0, 0> up <0, 1, 0> fov 40 }\n\
          render { width 3000 height 3000 samples 16 max_depth 8 }\n\
@@ -416,6 +427,7 @@ fn an_interrupted_render_leaves_the_old_image_and_no_temporary() {
 /// comes from the temporary file beside it.
 #[test]
 fn unwritable_targets_are_clear_errors() {
+    let _watchdog = crate::watchdog::start();
     if !Path::new("/dev/full").exists() {
         return;
     }
@@ -444,6 +456,7 @@ fn unwritable_targets_are_clear_errors() {
 /// the same path with a simulated disk, and this test says it was skipped.
 #[test]
 fn a_full_disk_is_a_clear_error_and_keeps_the_old_image() {
+    let _watchdog = crate::watchdog::start();
     let dir = tempfile::tempdir().unwrap();
     let mnt = dir.path().join("small");
     std::fs::create_dir(&mnt).unwrap();
@@ -493,6 +506,7 @@ fn a_full_disk_is_a_clear_error_and_keeps_the_old_image() {
 /// without building the sum first.
 #[test]
 fn a_mistake_on_a_huge_line_gives_a_short_report() {
+    let _watchdog = crate::watchdog::start();
     let sum = format!("let a = {}\n", vec!["1"; 1_000_000].join("+"));
     let mut typo = "camera { position <0, 0, 5>  look_at <0, 0, 0> }\n".to_owned();
     typo.push_str(&"sphere { radius 1 } ".repeat(50_000));

@@ -10,5 +10,9 @@ mod lang;
 mod mesh;
 mod placement;
 mod render;
+#[path = "../../src/shared_data.rs"]
+mod shared_data;
 mod support;
 mod textures;
+#[path = "../../src/watchdog.rs"]
+mod watchdog;

@@ -17,6 +17,7 @@ fn objects(src: &str) -> Vec<Box<dyn Shape>> {
 /// docs/language.md: "`normal <0, 2, 0>  offset 1` is the plane y = 1".
 #[test]
 fn plane_offset_is_a_distance_along_the_unit_normal() {
+    let _watchdog = crate::watchdog::start();
     let objs = objects("plane { normal <0, 2, 0>  offset 1 }");
     let down = Ray::new(DVec3::new(0.3, 5.0, -0.2), -DVec3::Y);
     let h = objs[0].intersect(&down, 0.0, f64::INFINITY).expect("hit");
@@ -41,6 +42,7 @@ fn plane_offset_is_a_distance_along_the_unit_normal() {
 /// other's shifted by 1.6, a different picture on every pixel of it.)
 #[test]
 fn csg_texture_lives_in_the_block_space_whatever_places_the_children() {
+    let _watchdog = crate::watchdog::start();
     let scene = |a: &str, b: &str, c: &str| {
         format!(
             "camera {{ position <0, 1, 6>  look_at <0, 0, 0>  fov 50 }}
@@ -87,6 +89,7 @@ difference {{ box {{ min <-2, -1.5, -1>  max <2, -0.5, 1> }} {c}  material tiles
 /// the material the block gives.
 #[test]
 fn csg_child_with_its_own_material_keeps_its_own_texture_space() {
+    let _watchdog = crate::watchdog::start();
     let scene = |body: &str| {
         format!(
             "camera {{ position <0, 0, 6>  look_at <0, 0, 0>  fov 40 }}
@@ -125,6 +128,7 @@ material tiles {{ colour checker3d {{ a white  b rgb(0, 0, 0)  size 0.5 }} }}
 /// outside one.
 #[test]
 fn csg_texture_space_leaves_uv_patterns_on_the_child() {
+    let _watchdog = crate::watchdog::start();
     let scene = |body: &str| {
         format!(
             "camera {{ position <0, 0, 6>  look_at <0, 0, 0>  fov 40 }}

@@ -10,6 +10,7 @@ render { width 64  height 64  max_depth 3  gamma linear }
 
 #[test]
 fn floor_under_a_sphere_is_in_shadow_and_elsewhere_lit() {
+    let _watchdog = crate::watchdog::start();
     // A lamp high above a sphere at x = 3 casts a round shadow of radius
     // about 1.04 centred on (3, 0, 0). The camera hangs above x = −3 looking
     // straight down (fov 90: ten units either side), so it sees that shadow
@@ -41,6 +42,7 @@ sphere { centre <3, 2, 0>  radius 1  material { colour rgb(1, 0, 0) } }
 
 #[test]
 fn sphere_silhouette_matches_the_analytic_circle() {
+    let _watchdog = crate::watchdog::start();
     let film = render_src(&format!(
         "{HEADER}
 ambient rgb(1, 1, 1) intensity 1
@@ -71,6 +73,7 @@ sphere {{ radius 1  material {{ colour rgb(1, 1, 1) }} }}
 
 #[test]
 fn transformed_box_equals_the_box_placed_by_hand() {
+    let _watchdog = crate::watchdog::start();
     let by_transform = render_src(&format!(
         "{HEADER}
 ambient rgb(1, 1, 1) intensity 0.2
@@ -96,6 +99,7 @@ box {{ min <0.05, -0.3, -0.25>  max <0.55, 0.7, 0.25> }}
 
 #[test]
 fn mirror_shows_the_sphere_in_front_of_it() {
+    let _watchdog = crate::watchdog::start();
     // A mirror plane behind a red sphere, camera looking past the sphere at
     // the mirror: the red appears again, reflected, beside the real one.
     let film = render_src(
@@ -123,6 +127,7 @@ sphere { centre <-2, 0, 2>  radius 0.6  material { colour rgb(1, 0, 0) } }
 
 #[test]
 fn image_is_identical_for_one_and_two_threads() {
+    let _watchdog = crate::watchdog::start();
     let (_dir, path) = scene_file(&format!(
         "{HEADER}
 ambient rgb(1, 1, 1) intensity 0.1

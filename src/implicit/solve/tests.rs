@@ -33,6 +33,7 @@ fn check(roots: &[f64], found: &[f64], tol: f64) {
 
 #[test]
 fn low_degrees() {
+    let _watchdog = crate::watchdog::start();
     check(
         &[0.5],
         &all_roots(&from_roots(&[0.5], 0.0, 0), -1.0, 1.0, 1e-14),
@@ -65,6 +66,7 @@ fn low_degrees() {
 
 #[test]
 fn close_and_repeated_roots() {
+    let _watchdog = crate::watchdog::start();
     // Two roots 1e-6 apart are still told apart.
     let r = [0.25, 0.250001, -0.6];
     check(
@@ -94,6 +96,7 @@ fn close_and_repeated_roots() {
 
 #[test]
 fn degree_40_with_few_real_roots() {
+    let _watchdog = crate::watchdog::start();
     let r = [-0.7, 0.05, 0.9];
     let c = from_roots(&r, 3.0, 18);
     assert_eq!(c.len(), 40);
@@ -102,6 +105,7 @@ fn degree_40_with_few_real_roots() {
 
 #[test]
 fn bernstein_cull_tells_clear_cases() {
+    let _watchdog = crate::watchdog::start();
     // 2 + t² has no root; t² − 0.25 has two.
     assert!(no_root_in_unit(&[2.0, 0.0, 1.0]));
     assert!(!no_root_in_unit(&[-0.25, 0.0, 1.0]));
@@ -115,6 +119,7 @@ fn bernstein_cull_tells_clear_cases() {
 
 #[test]
 fn nothing_on_a_zero_polynomial() {
+    let _watchdog = crate::watchdog::start();
     assert!(all_roots(&[0.0, 0.0, 0.0], -1.0, 1.0, 1e-12).is_empty());
     assert!(all_roots(&[1.0, 0.0, 0.0, 0.0, 0.0], -1.0, 1.0, 1e-12).is_empty());
 }
@@ -124,6 +129,7 @@ proptest! {
 
     #[test]
     fn the_bernstein_cull_never_hides_a_root(c in prop::collection::vec(-2.0f64..2.0, 2..13), shift in -1.5f64..1.5) {
+        let _watchdog = crate::watchdog::start();
         // Shift the constant so that roots are likely near the interval.
         let mut c = c;
         c[0] += shift;
@@ -144,6 +150,7 @@ proptest! {
         m in 0usize..17,
         s in 0.5f64..4.0,
     ) {
+        let _watchdog = crate::watchdog::start();
         // Separated simple roots (closeness is tested above), times a factor
         // without real roots to reach up to degree 40.
         let mut rs = roots.clone();
@@ -156,6 +163,7 @@ proptest! {
 
     #[test]
     fn power_cube_lines(n in 2u32..21, a in prop::array::uniform4(-1.01f64..1.01)) {
+        let _watchdog = crate::watchdog::start();
         // x^2n + y^2n − 1 along a chord of the box [−1.01, 1.01]² between
         // (a0, a1) and (a2, a3), parameterised as the surface does it
         // (midpoint o, half-chord d, s in [−1, 1]): every reported root is a
