@@ -1079,6 +1079,47 @@ mod tests {
         assert!(seen[1] > 20 && seen[2] > 5 && seen[3] > 20, "{seen:?}");
     }
 
+    /// A nested unbounded intersection (a quarter-space: two planes) that a
+    /// line runs inside of without crossing it: the parent learns from
+    /// `encloses` that the whole line is inside, so a ball minus the
+    /// quarter-space shows nothing along a line within the quarter, and
+    /// the ball along one outside it.
+    #[test]
+    fn a_nested_unbounded_intersection_encloses_the_lines_inside_it() {
+        let _watchdog = crate::watchdog::start();
+        let quarter = || {
+            Box::new(Csg::new(
+                CsgOp::Intersection,
+                vec![
+                    Box::new(Plane::new(DVec3::Y, 0.0, 2)) as Box<dyn Shape>,
+                    Box::new(Plane::new(DVec3::X, 0.0, 2)),
+                ],
+            )) as Box<dyn Shape>
+        };
+        assert!(quarter().encloses(DVec3::new(-1.0, -1.0, 7.0)));
+        assert!(!quarter().encloses(DVec3::new(1.0, -1.0, 7.0)));
+        let ball_minus = Csg::new(
+            CsgOp::Difference,
+            vec![sphere(DVec3::ZERO, 5.0, 1), quarter()],
+        );
+        let ball_and = Csg::new(
+            CsgOp::Intersection,
+            vec![sphere(DVec3::ZERO, 5.0, 1), quarter()],
+        );
+        // Along z, parallel to both planes.
+        let inside = Ray::new(DVec3::new(-1.0, -1.0, 20.0), -DVec3::Z);
+        let outside = Ray::new(DVec3::new(1.0, -1.0, 20.0), -DVec3::Z);
+        assert!(ball_minus.intersect(&inside, 0.0, f64::INFINITY).is_none());
+        assert!(ball_minus.intersect(&outside, 0.0, f64::INFINITY).is_some());
+        let h = ball_and
+            .intersect(&inside, 0.0, f64::INFINITY)
+            .expect("the ball's quarter");
+        assert!((h.t - (20.0 - 23f64.sqrt())).abs() < 1e-9, "{h:?}");
+        assert!(ball_and.intersect(&outside, 0.0, f64::INFINITY).is_none());
+        assert_eq!(xs(&ball_and, &inside).len(), 2);
+        assert!(xs(&ball_minus, &inside).is_empty());
+    }
+
     #[test]
     fn nesting_too_deep_for_the_key_keeps_the_material() {
         let _watchdog = crate::watchdog::start();

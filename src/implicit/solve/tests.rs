@@ -94,6 +94,62 @@ fn close_and_repeated_roots() {
     );
 }
 
+/// A root exactly on a critical point (a double root at a piece's end, as
+/// where a ray grazes a surface at a pixel's exact centre): reported once,
+/// never twice and never beside itself. Duplicated crossings flip CSG's
+/// inside and outside, so "no false root" is checked as an exact list.
+#[test]
+fn a_root_on_a_critical_point_is_reported_once() {
+    let _watchdog = crate::watchdog::start();
+    // t²(t − 0.5): a double root at 0 (where P' = 0) and a simple one.
+    let c = from_roots(&[0.0, 0.0, 0.5], 0.0, 0);
+    assert_eq!(c, vec![0.0, 0.0, -0.5, 1.0]);
+    for (lo, hi) in [(-1.0, 1.0), (0.0, 1.0), (-0.7, 0.6)] {
+        let f = all_roots(&c, lo, hi, 1e-15);
+        assert_eq!(f.len(), 2, "on [{lo}, {hi}]: {f:?}");
+        assert_eq!(f[0], 0.0, "on [{lo}, {hi}]: {f:?}");
+        assert!((f[1] - 0.5).abs() < 1e-12, "on [{lo}, {hi}]: {f:?}");
+    }
+    // Degree 4: t²(t − 0.5)(t + 0.25), the double root between two pieces.
+    let c = from_roots(&[0.0, 0.0, 0.5, -0.25], 0.0, 0);
+    // Here the critical point 0 comes from bisecting P' (not exact), so the
+    // double root may be missed, as a grazing ray may; never doubled.
+    let f = all_roots(&c, -1.0, 1.0, 1e-15);
+    assert!((f[0] + 0.25).abs() < 1e-12 && (f[f.len() - 1] - 0.5).abs() < 1e-12);
+    assert!(f.len() == 2 || (f.len() == 3 && f[1].abs() < 1e-6), "{f:?}");
+    // t³: a root where every derivative down to the quadratic vanishes.
+    let f = all_roots(&[0.0, 0.0, 0.0, 1.0], -1.0, 1.0, 1e-15);
+    assert_eq!(f, vec![0.0]);
+    // (t − 0.25)³ (t + 0.5): a triple root away from the origin, found once.
+    let c = from_roots(&[0.25, 0.25, 0.25, -0.5], 0.0, 0);
+    let f = all_roots(&c, -1.0, 1.0, 1e-15);
+    assert_eq!(f.len(), 2, "{f:?}");
+}
+
+/// The bracketed solver's bisection start: when the secant guess does not
+/// fall inside the bracket (here a bracket whose ends give no usable
+/// secant), it starts from the midpoint and still converges.
+#[test]
+fn bracketed_root_from_every_start() {
+    let _watchdog = crate::watchdog::start();
+    // p = t³ − 0.001 on [−1, 1]: the secant from (−1, −1.001), (1, 0.999)
+    // lands at 0.001, inside; on [0.05, 1] it lands far off.
+    let p = [-0.001, 0.0, 0.0, 1.0];
+    for (a, b) in [(-1.0, 1.0), (0.05, 1.0), (-1.0, 0.2), (0.0999, 0.1001)] {
+        let (fa, fb) = (horner(&p, a), horner(&p, b));
+        if (fa < 0.0) == (fb < 0.0) {
+            continue;
+        }
+        let x = bracketed(&p, a, b, fa, fb, 1e-15);
+        assert!((x - 0.1).abs() < 1e-12, "[{a}, {b}]: {x}");
+    }
+    // A secant guess outside the bracket: NaN from fa == fb is impossible
+    // with a sign change, but a huge slope ratio gives x == a exactly.
+    let p = [-1e-300, 1.0];
+    let x = bracketed(&p, 0.0, 1.0, -1e-300, 1.0, 1e-15);
+    assert!((x - 1e-300).abs() < 1e-15, "{x}");
+}
+
 #[test]
 fn degree_40_with_few_real_roots() {
     let _watchdog = crate::watchdog::start();
