@@ -141,3 +141,34 @@ plane {{ normal <0, 1, 0>  offset -0.6  material {{ colour rgb(0.8, 0.8, 0.8)  r
     let two = render_path(&path, None, 2);
     assert_eq!(one, two);
 }
+
+/// The recursion depth, exactly: between two facing mirrors lit only by
+/// ambient light every camera ray bounces until `max_depth`, so each pixel
+/// is (1 − R)·c·a·(1 + R + … + R^N) with N = max_depth (a reflection one
+/// bounce too deep or too shallow adds or drops the term R^N).
+#[test]
+fn facing_mirrors_add_exactly_max_depth_reflections() {
+    let _watchdog = crate::watchdog::start();
+    let (r, a, c) = (0.5f64, 0.5f64, [1.0f64, 0.5, 0.25]);
+    for n in 0..=4u32 {
+        let film = render_src(&format!(
+            "camera {{ position <0, 0, 0>  look_at <0, 0, -1>  up <0, 1, 0>  fov 60 }}
+render {{ width 5  height 5  max_depth {n}  gamma linear }}
+ambient rgb(1, 1, 1) intensity {a}
+plane {{ normal <0, 0, 1>  offset -1  material {{ colour rgb({}, {}, {})  reflect {r} }} }}
+plane {{ normal <0, 0, -1>  offset -1  material {{ colour rgb({}, {}, {})  reflect {r} }} }}",
+            c[0], c[1], c[2], c[0], c[1], c[2]
+        ));
+        let series: f64 = (0..=n).map(|k| r.powi(k as i32)).sum();
+        for (i, p) in film.pixels.iter().enumerate() {
+            for k in 0..3 {
+                let want = (1.0 - r) * c[k] * a * series;
+                assert!(
+                    (p[k] as f64 - want).abs() < 1e-5,
+                    "max_depth {n}, pixel {i}, channel {k}: {} vs {want}",
+                    p[k]
+                );
+            }
+        }
+    }
+}
