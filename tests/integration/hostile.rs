@@ -232,28 +232,52 @@ fn number_spans(src: &str) -> Vec<(usize, usize)> {
 fn degenerate_geometry_gives_pictures_or_diagnostics() {
     let _watchdog = crate::watchdog::start();
     let cam = "camera { position <0, 0, 5> look_at <0, 0, 0> up <0, 1, 0> fov 40 }\nlight { position <2, 5, 5> intensity 1 }\n";
+    // Each: the message its diagnostic must give, or "" for a picture in
+    // which nothing is there (an empty solid: every pixel background).
+    let must_be = "this must be greater than 0";
+    let no_box = "a box's `max` must be greater than its `min` on every axis";
+    let singular = "this scale is singular";
     let shapes = [
-        "sphere { radius 0 }",
-        "sphere { radius -1 }",
-        "box { min <0, 0, 0> max <0, 0, 0> }",
-        "box { min <1, 1, 1> max <-1, -1, -1> }",
-        "triangle { a <0, 0, 0> b <1, 1, 1> c <2, 2, 2> }",
-        "triangle { a <0, 0, 0> b <0, 0, 0> c <0, 0, 0> }",
-        "rectangle { bottom_left <0, 0, 0> top_left <0, 0, 0> bottom_right <1, 0, 0> }",
-        "cylinder { radius 0 height 0 }",
-        "cone { radius 0 height 0 }",
-        "disc { radius 0 }",
-        "torus { major 0 minor 0 }",
-        "sphere { radius 1 scale 0 }",
-        "sphere { radius 1 scale <1, 0, 1> }",
-        "sphere { radius 1 matrix [0 0 0 0 0 0 0 0 0 0 0 0] }",
-        "difference { sphere { radius 1 } sphere { radius 1 } }",
-        "intersection { sphere { radius 1 translate <-5, 0, 0> } sphere { radius 1 translate <5, 0, 0> } }",
-        "union { }",
-        "plane { normal <0, 0, 0> }",
+        ("sphere { radius 0 }", must_be),
+        ("sphere { radius -1 }", must_be),
+        ("box { min <0, 0, 0> max <0, 0, 0> }", no_box),
+        ("box { min <1, 1, 1> max <-1, -1, -1> }", no_box),
+        ("triangle { a <0, 0, 0> b <1, 1, 1> c <2, 2, 2> }", "this triangle has no area"),
+        ("triangle { a <0, 0, 0> b <0, 0, 0> c <0, 0, 0> }", "this triangle has no area"),
+        (
+            "rectangle { bottom_left <0, 0, 0> top_left <0, 0, 0> bottom_right <1, 0, 0> }",
+            "this rectangle has no area",
+        ),
+        ("cylinder { radius 0 height 0 }", must_be),
+        ("cone { radius 0 height 0 }", must_be),
+        ("disc { radius 0 }", must_be),
+        ("torus { major 0 minor 0 }", must_be),
+        ("sphere { radius 1 scale 0 }", singular),
+        ("sphere { radius 1 scale <1, 0, 1> }", singular),
+        ("sphere { radius 1 matrix [0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0] }", "singular"),
+        ("difference { sphere { radius 1 } sphere { radius 1 } }", ""),
+        (
+            "intersection { sphere { radius 1 translate <-5, 0, 0> } sphere { radius 1 translate <5, 0, 0> } }",
+            "",
+        ),
+        ("union { }", "`union` holds no objects"),
+        ("plane { normal <0, 0, 0> }", "a plane's normal cannot be zero"),
     ];
-    for s in shapes {
-        let _ = outcome(&format!("{cam}{s}"));
+    for (s, expect) in shapes {
+        match outcome(&format!("{cam}{s}")) {
+            Ok(film) => {
+                assert!(expect.is_empty(), "{s}: a picture, not `{expect}`");
+                let bg = film.pixels[0];
+                assert!(
+                    film.pixels.iter().all(|p| *p == bg) && bg == [0.0; 3],
+                    "{s}: an empty solid shows nothing"
+                );
+            }
+            Err(e) => assert!(
+                !expect.is_empty() && e.contains(expect),
+                "{s}: expected `{expect}`, got {e}"
+            ),
+        }
     }
     // Up parallel to the view direction, look_at at the position, zero fov.
     for c in [
@@ -263,15 +287,14 @@ fn degenerate_geometry_gives_pictures_or_diagnostics() {
         "camera { position <0, 0, 5> look_at <0, 0, 0> up <0, 1, 0> fov 0 }",
         "camera { position <0, 0, 5> look_at <0, 0, 0> up <0, 1, 0> fov 180 }",
     ] {
-        let r = outcome(&format!("{c}\nsphere {{ radius 1 }}"));
-        if let Err(e) = r {
-            assert!(
-                ["camera", "up", "fov", "angle"]
-                    .iter()
-                    .any(|w| e.contains(w)),
-                "{e}"
-            );
-        }
+        // Each is refused, saying what is wrong with the camera.
+        let e = outcome(&format!("{c}\nsphere {{ radius 1 }}"))
+            .err()
+            .unwrap_or_else(|| panic!("{c}: rendered"));
+        assert!(
+            ["camera", "up", "angle"].iter().any(|w| e.contains(w)),
+            "{e}"
+        );
     }
     // A camera and a light inside a closed sphere see its inside, lit.
     let inside = "camera { position <0, 0, 0> look_at <0, 0, -1> up <0, 1, 0> fov 60 }\n\
