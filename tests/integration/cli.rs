@@ -52,6 +52,50 @@ fn every_output_format_is_written() {
     }
 }
 
+/// Every format holds the requested size, and the float formats hold the
+/// linear values the renderer computed (not display-encoded ones): a grey
+/// of linear 0.2 under ambient light 1 is 0.2 in `.exr` and `.hdr`, and
+/// sRGB-encoded (0.2 → 124/255) in the 8-bit formats.
+#[test]
+fn output_formats_keep_size_and_float_ones_keep_linear_values() {
+    let _watchdog = crate::watchdog::start();
+    let (dir, scene) = scene_file(
+        "camera { position <0, 0, 4>  look_at <0, 0, 0>  fov 40 }
+render { width 30  height 20  gamma srgb }
+ambient rgb(1, 1, 1) intensity 1
+sphere { radius 1  material { colour rgb(0.2, 0.2, 0.2) } }",
+    );
+    // The sRGB curve at 0.2: 1.055·0.2^(1/2.4) − 0.055 = 0.4845 → 124.
+    let srgb = 1.055 * 0.2f32.powf(1.0 / 2.4) - 0.055;
+    for ext in ["png", "jpg", "exr", "hdr", "ppm"] {
+        let out = dir.path().join(format!("out.{ext}"));
+        let o = raytrace(&[scene.as_os_str(), "-o".as_ref(), out.as_os_str()]);
+        assert!(
+            o.status.success(),
+            "{ext}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        let img = image::open(&out).unwrap_or_else(|e| panic!("{ext}: {e}"));
+        assert_eq!((img.width(), img.height()), (30, 20), "{ext}");
+        // The centre pixel looks at the sphere; the corner at the background.
+        let centre = img.to_rgb32f().get_pixel(15, 10).0;
+        let corner = img.to_rgb32f().get_pixel(0, 0).0;
+        let (want, tol) = match ext {
+            "exr" => (0.2, 1e-6),
+            "hdr" => (0.2, 0.2 / 128.0),
+            "jpg" => (srgb, 4.0 / 255.0),
+            _ => (srgb, 0.5 / 255.0),
+        };
+        for k in 0..3 {
+            assert!(
+                (centre[k] - want).abs() <= tol,
+                "{ext}: {centre:?} vs {want}"
+            );
+            assert!(corner[k].abs() <= tol, "{ext}: background {corner:?}");
+        }
+    }
+}
+
 #[test]
 fn unknown_extension_fails_before_rendering_and_writes_nothing() {
     let _watchdog = crate::watchdog::start();
