@@ -35,9 +35,21 @@ sphere { centre <3, 2, 0>  radius 1  material { colour rgb(1, 0, 0) } }
         (shadowed[1] - 0.1).abs() < 1e-4,
         "shadowed floor is grey: {shadowed:?}"
     );
-    // Straight below the camera the floor is lit almost head-on.
+    // Straight below the camera the floor is lit almost head-on: by
+    // conventions.md pixel (32, 32) fires through (a + 0.5)/32 − 1 =
+    // 1/64 of the half-width (tan 45° · 10 = 10 units) right (+x, since
+    // r = l × u' = (0,−1,0) × (0,0,−1)) and 1/64 down the image (−u' =
+    // +z): the floor point (−3 + 10/64, 0, 10/64). Lit at cos = n·l̂.
+    let p = glam::DVec3::new(-3.0 + 10.0 / 64.0, 0.0, 10.0 / 64.0);
+    let to_light = glam::DVec3::new(3.0, 50.0, 0.0) - p;
+    let want = 0.1 + to_light.normalize().y;
     let lit = film.get(32, 32);
-    assert!(lit[0] > 1.05 && lit[0] < 1.1, "lit floor: {lit:?}");
+    for (k, &c) in lit.iter().enumerate() {
+        assert!(
+            (c as f64 - want).abs() < 1e-5,
+            "lit floor channel {k}: {lit:?} vs {want}"
+        );
+    }
 }
 
 #[test]
@@ -111,17 +123,45 @@ plane { normal <-1, 0, 1>  offset -2  material { colour rgb(0, 0, 1)  reflect 1 
 sphere { centre <-2, 0, 2>  radius 0.6  material { colour rgb(1, 0, 0) } }
 ",
     );
-    // Without the mirror nothing red would appear right of the centre.
-    let red_right = (40..64)
+    // The mirror image of the sphere's centre C = (−2, 0, 2) in the plane
+    // n̂·p = −2, n̂ = (−1, 0, 1)/√2 (the offset is a distance along the
+    // unit normal): C' = C − 2(n̂·C + 2)n̂ = (2 + 2√2, 0, −2 − 2√2).
+    // Projected through the camera (conventions.md: fov 60 horizontal,
+    // r = +x, u' = +y, pixel a at tan 30°·((a + 0.5)/32 − 1)), it lands at
+    // (col, row).
+    let n = glam::DVec3::new(-1.0, 0.0, 1.0).normalize();
+    let c = glam::DVec3::new(-2.0, 0.0, 2.0);
+    let image = c - 2.0 * (n.dot(c) + 2.0) * n;
+    let s = 2.0 + 2.0 * 2f64.sqrt();
+    assert!((image - glam::DVec3::new(s, 0.0, -s)).length() < 1e-12);
+    let d = image - glam::DVec3::new(0.0, 0.0, 6.0);
+    let half = 30f64.to_radians().tan();
+    let col = 32.0 * (1.0 + (d.x / -d.z) / half) - 0.5;
+    let row = 32.0 * (1.0 - (d.y / -d.z) / half) - 0.5;
+    // The red reflection, right of the real sphere (at column 32·(1 −
+    // 0.5/tan 30°) − 0.5 ≈ 4): its pixels' centroid is the projected image
+    // centre (a sphere's outline is symmetric about it to within a tenth
+    // of a pixel at this size).
+    let red: Vec<(f64, f64)> = (33..64)
         .flat_map(|a| (0..64).map(move |b| (a, b)))
         .filter(|&(a, b)| {
             let p = film.get(a, b);
             p[0] > 0.5 && p[2] < 0.1
         })
-        .count();
+        .map(|(a, b)| (a as f64, b as f64))
+        .collect();
     assert!(
-        red_right > 5,
-        "reflection of the sphere visible: {red_right}"
+        red.len() > 5,
+        "reflection of the sphere visible: {}",
+        red.len()
+    );
+    let n_red = red.len() as f64;
+    let (ca, cb) = red
+        .iter()
+        .fold((0.0, 0.0), |(x, y), &(a, b)| (x + a / n_red, y + b / n_red));
+    assert!(
+        (ca - col).abs() < 0.35 && (cb - row).abs() < 0.35,
+        "reflection centred at ({ca:.2}, {cb:.2}), the mirror says ({col:.2}, {row:.2})"
     );
 }
 
