@@ -8,6 +8,8 @@
 #   scripts/mutants.sh src/geometry          # one folder (or file)
 #   scripts/mutants.sh src/shapes/csg.rs -F 'Csg::encloses'   # a focus
 #   JOBS=2 scripts/mutants.sh                # parallel builds (RAM, cores)
+#   scripts/mutants.sh src/geometry --in-place   # reuse this tree's target/
+#                                     (edits src/ while it runs: hands off)
 #
 # Extra arguments go to cargo-mutants. Exclusions, each with its reason,
 # live in .cargo/mutants.toml. Results land in mutants.out/ (outcomes.json,
@@ -48,4 +50,4 @@ if [ -z "${RAYTRACE_SHARED:-}" ] && [ ! -d ../shared/data ] && [ "${RAYTRACE_SKI
 fi
 
 # shellcheck disable=SC2086
-exec cargo mutants --jobs "${JOBS:-1}" $args "$@"
+exec cargo mutants ${JOBS:+--jobs "$JOBS"} $args "$@"
