@@ -1138,6 +1138,34 @@ mod tests {
         assert!((h.t - want).abs() < 1e-12, "{}", h.t);
         let p = r.at(h.t);
         assert!((h.normal.normalize() - p).length() < 1e-9, "{:?}", h.normal);
+        // Its path did not fit: marked lost, so (u, v) reads as zero rather
+        // than being asked of whichever child a wrapped path would name.
+        assert_eq!(h.path, LOST);
+    }
+
+    /// The last resort of a lost crossing: no child has a crossing at its t
+    /// (it cannot be found again), so the hit is made from the crossing
+    /// alone: its t, a normal that says entering or leaving as `facing`
+    /// did, the point for solid textures, and the path marked lost.
+    #[test]
+    fn a_lost_crossing_no_child_has_is_still_a_consistent_hit() {
+        let _watchdog = crate::watchdog::start();
+        let u = Csg::new(CsgOp::Union, vec![sphere(DVec3::ZERO, 1.0, 4)]);
+        let r = Ray::new(DVec3::new(0.0, 0.0, 9.0), DVec3::new(0.0, 0.0, -2.0));
+        for facing in [-1.0, 1.0] {
+            let c = Crossing {
+                t: 2.5,
+                facing,
+                grazing: false,
+                key: LOST,
+            };
+            let h = u.hit_of(&r, &c);
+            assert_eq!(h.t, 2.5);
+            assert_eq!(h.local, r.at(2.5));
+            assert_eq!(h.path, LOST);
+            assert_eq!(h.normal.dot(r.dir).signum(), facing, "{h:?}");
+            assert_eq!(u.uv(&h), DVec2::ZERO);
+        }
     }
 
     #[test]
