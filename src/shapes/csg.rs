@@ -1143,6 +1143,50 @@ mod tests {
         assert_eq!(h.path, LOST);
     }
 
+    /// A lost crossing found again on a cutter of a difference is the
+    /// cutter's surface turned inside out, as when the key fits.
+    #[test]
+    fn a_lost_crossing_on_a_cutter_faces_out_of_the_result() {
+        let _watchdog = crate::watchdog::start();
+        let d = Csg::new(
+            CsgOp::Difference,
+            vec![
+                sphere(DVec3::ZERO, 2.0, 1),
+                sphere(DVec3::new(0.0, 0.0, 2.0), 1.0, 2),
+            ],
+        );
+        let r = Ray::new(DVec3::new(0.0, 0.0, 9.0), -DVec3::Z);
+        // Entering the result at z = 1, on the cutter (its back face).
+        let found = xs(&d, &r);
+        let first = found.first().expect("a crossing");
+        assert!((first.t - 8.0).abs() < 1e-12 && first.material == 2);
+        let c = Crossing::new(first.t, first.normal, &r, LOST);
+        let h = d.hit_of(&r, &c);
+        assert_eq!((h.t, h.material, h.path), (first.t, 2, LOST));
+        assert!(h.normal.dot(r.dir) < 0.0, "entering: {h:?}");
+    }
+
+    /// A union whose unbounded child (a half-space) holds the whole line
+    /// without crossing it: everything along the line is inside the union,
+    /// so the other children's surfaces there are inner ones, not seen.
+    #[test]
+    fn a_line_inside_an_unbounded_child_of_a_union_sees_no_inner_surfaces() {
+        let _watchdog = crate::watchdog::start();
+        let u = Csg::new(
+            CsgOp::Union,
+            vec![
+                Box::new(Plane::new(DVec3::Y, 0.0, 1)) as Box<dyn Shape>,
+                sphere(DVec3::ZERO, 1.0, 2),
+            ],
+        );
+        let below = Ray::new(DVec3::new(0.0, -0.5, 9.0), -DVec3::Z);
+        assert!(u.intersect(&below, 0.0, f64::INFINITY).is_none());
+        assert!(!u.occludes(&below, 0.0, f64::INFINITY));
+        let above = Ray::new(DVec3::new(0.0, 0.5, 9.0), -DVec3::Z);
+        let h = u.intersect(&above, 0.0, f64::INFINITY).expect("the sphere");
+        assert_eq!(h.material, 2);
+    }
+
     /// The last resort of a lost crossing: no child has a crossing at its t
     /// (it cannot be found again), so the hit is made from the crossing
     /// alone: its t, a normal that says entering or leaving as `facing`
