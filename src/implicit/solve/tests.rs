@@ -104,8 +104,15 @@ fn a_root_on_a_critical_point_is_reported_once() {
     // t²(t − 0.5): a double root at 0 (where P' = 0) and a simple one.
     let c = from_roots(&[0.0, 0.0, 0.5], 0.0, 0);
     assert_eq!(c, vec![0.0, 0.0, -0.5, 1.0]);
-    for (lo, hi) in [(-1.0, 1.0), (0.0, 1.0), (-0.7, 0.6)] {
-        let f = all_roots(&c, lo, hi, 1e-15);
+    // And the same upside down, so the piece ending at 0 starts positive.
+    let neg: Vec<f64> = c.iter().map(|k| -k).collect();
+    for (lo, hi, c) in [
+        (-1.0, 1.0, &c),
+        (0.0, 1.0, &c),
+        (-0.7, 0.6, &c),
+        (-1.0, 1.0, &neg),
+    ] {
+        let f = all_roots(c, lo, hi, 1e-15);
         assert_eq!(f.len(), 2, "on [{lo}, {hi}]: {f:?}");
         assert_eq!(f[0], 0.0, "on [{lo}, {hi}]: {f:?}");
         assert!((f[1] - 0.5).abs() < 1e-12, "on [{lo}, {hi}]: {f:?}");
