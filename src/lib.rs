@@ -21,7 +21,11 @@ pub mod output;
 pub mod render;
 pub mod scene;
 pub mod shapes;
+#[cfg(test)]
+pub(crate) mod shared_data;
 pub mod signals;
+#[cfg(test)]
+pub(crate) mod watchdog;
 
 use cli::{Args, Failure};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};

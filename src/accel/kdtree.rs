@@ -750,6 +750,7 @@ mod tests {
 
     #[test]
     fn empty_tree_finds_nothing() {
+        let _watchdog = crate::watchdog::start();
         let t = KdTree::build(&[]);
         let r = Ray::new(DVec3::ZERO, DVec3::X);
         assert!(
@@ -761,6 +762,7 @@ mod tests {
 
     #[test]
     fn splits_a_row_of_boxes_and_walks_front_to_back() {
+        let _watchdog = crate::watchdog::start();
         let centres: Vec<DVec3> = (0..100)
             .map(|i| DVec3::new(i as f64 * 3.0, 0.0, 0.0))
             .collect();
@@ -793,8 +795,45 @@ mod tests {
         );
     }
 
+    /// Flat shapes (a rectangle in x = c) have boxes of zero thickness in
+    /// one axis: each must stay in the tree, in every axis.
+    #[test]
+    fn flat_boxes_in_every_axis_are_kept() {
+        let _watchdog = crate::watchdog::start();
+        for axis in 0..3 {
+            let boxes: Vec<Aabb> = (0..40)
+                .map(|i| {
+                    let (mut lo, mut hi) = (DVec3::splat(-1.0), DVec3::splat(1.0));
+                    lo[axis] = i as f64 * 2.0;
+                    hi[axis] = i as f64 * 2.0;
+                    Aabb::new(lo, hi)
+                })
+                .collect();
+            let t = KdTree::build(&boxes);
+            let mut dir = DVec3::ZERO;
+            dir[axis] = 1.0;
+            let mut seen = Vec::new();
+            t.along_line(&Ray::new(dir * -5.0 + 0.1, dir), |i| seen.push(i));
+            seen.sort();
+            seen.dedup();
+            assert_eq!(seen, (0..40).collect::<Vec<u32>>(), "axis {axis}");
+            // And the nearest is the first plane along the ray.
+            let hit = t.nearest(
+                &Ray::new(dir * -5.0 + 0.1, dir),
+                0.0,
+                f64::INFINITY,
+                |i, best| {
+                    let tt = 5.0 + i as f64 * 2.0;
+                    (tt < best).then_some(tt)
+                },
+            );
+            assert_eq!(hit, Some(5.0), "axis {axis}");
+        }
+    }
+
     #[test]
     fn rays_in_a_split_plane_see_both_sides() {
+        let _watchdog = crate::watchdog::start();
         // Two boxes meeting at x = 0; a ray lying in that plane along y.
         let boxes = vec![
             Aabb::new(DVec3::new(-1.0, 0.0, 0.0), DVec3::new(0.0, 1.0, 1.0)),

@@ -186,6 +186,7 @@ mod tests {
 
     #[test]
     fn world_agrees_with_a_linear_scan() {
+        let _watchdog = crate::watchdog::start();
         let mut s = 0x9e3779b97f4a7c15u64;
         let mut rnd = move || {
             s ^= s << 13;

@@ -128,6 +128,71 @@ mod tests {
         assert_eq!(b.clip(&r, 0.0, 3.0), None);
     }
 
+    /// A box flat in one axis (a triangle lying in x = c) is not empty: the
+    /// kd-tree would drop every flat shape in such a plane.
+    #[test]
+    fn flat_boxes_are_not_empty_and_inverted_ones_are() {
+        for axis in 0..3 {
+            let mut hi = DVec3::ONE;
+            hi[axis] = 0.0;
+            let flat = Aabb::new(DVec3::new(0.0, 0.0, 0.0), hi);
+            assert!(!flat.is_empty(), "flat in axis {axis}");
+            let mut inverted = Aabb::new(DVec3::ZERO, DVec3::ONE);
+            inverted.min[axis] = 2.0;
+            assert!(inverted.is_empty(), "inverted in axis {axis}");
+        }
+        assert!(Aabb::EMPTY.is_empty());
+        assert!(!Aabb::INFINITE.is_empty());
+        assert!(!Aabb::new(DVec3::splat(3.0), DVec3::splat(3.0)).is_empty());
+    }
+
+    #[test]
+    fn intersection_and_contains() {
+        let a = Aabb::new(DVec3::ZERO, DVec3::new(2.0, 2.0, 2.0));
+        let b = Aabb::new(DVec3::new(1.0, -1.0, 0.5), DVec3::new(3.0, 1.0, 1.5));
+        let i = a.intersection(&b);
+        assert_eq!(i.min, DVec3::new(1.0, 0.0, 0.5));
+        assert_eq!(i.max, DVec3::new(2.0, 1.0, 1.5));
+        // Touching boxes meet in a flat box; apart ones in an empty one.
+        let touch = a.intersection(&Aabb::new(DVec3::new(2.0, 0.0, 0.0), DVec3::splat(3.0)));
+        assert!(!touch.is_empty() && touch.extent().x == 0.0);
+        let apart = a.intersection(&Aabb::new(DVec3::splat(5.0), DVec3::splat(6.0)));
+        assert!(apart.is_empty());
+        // contains: closed on every face, false just outside each.
+        assert!(a.contains(DVec3::ZERO) && a.contains(DVec3::splat(2.0)));
+        assert!(a.contains(DVec3::new(1.0, 2.0, 0.0)));
+        for axis in 0..3 {
+            for (v, inside) in [(-1e-12, false), (2.0 + 1e-12, false), (1.0, true)] {
+                let mut p = DVec3::ONE;
+                p[axis] = v;
+                assert_eq!(a.contains(p), inside, "{p:?}");
+            }
+        }
+        assert!(!Aabb::EMPTY.contains(DVec3::ZERO));
+        // union and grow take the hull.
+        let u = a.union(&b);
+        assert_eq!(
+            (u.min, u.max),
+            (DVec3::new(0.0, -1.0, 0.0), DVec3::new(3.0, 2.0, 2.0))
+        );
+        assert_eq!(
+            Aabb::EMPTY.grow(DVec3::ONE),
+            Aabb::new(DVec3::ONE, DVec3::ONE)
+        );
+        assert_eq!(a.centre(), DVec3::ONE);
+    }
+
+    #[test]
+    fn clip_of_a_ray_in_a_face_plane_and_from_inside() {
+        let b = Aabb::new(DVec3::splat(-1.0), DVec3::splat(1.0));
+        let inside = Ray::new(DVec3::ZERO, DVec3::X);
+        assert_eq!(b.clip(&inside, 0.0, f64::INFINITY), Some((0.0, 1.0)));
+        // A flat box (a rectangle in x = 0) is still hit across.
+        let flat = Aabb::new(DVec3::new(0.0, -1.0, -1.0), DVec3::new(0.0, 1.0, 1.0));
+        let across = Ray::new(DVec3::new(-3.0, 0.2, 0.1), DVec3::X);
+        assert_eq!(flat.clip(&across, 0.0, f64::INFINITY), Some((3.0, 3.0)));
+    }
+
     #[test]
     fn area_of_unit_cube() {
         assert_eq!(Aabb::new(DVec3::ZERO, DVec3::ONE).area(), 6.0);

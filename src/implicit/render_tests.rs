@@ -26,6 +26,7 @@ fn draw(mut scene: Scene) -> (crate::render::Film, crate::render::RenderStats) {
 /// roots (speckle), for every pixel.
 #[test]
 fn power_cube_is_clean_to_order_40() {
+    let _watchdog = crate::watchdog::start();
     let size = 160;
     let ball = Sphere::new(DVec3::ZERO, 1.0, 0);
     let cube = Aabb::new(DVec3::splat(-1.0), DVec3::splat(1.0));
@@ -83,6 +84,7 @@ fn look_at_origin(objects: Vec<Box<dyn Shape>>, position: DVec3) -> Scene {
 
 #[test]
 fn every_conventions_equation_renders_a_picture() {
+    let _watchdog = crate::watchdog::start();
     let consts = |n: &str| match n {
         "R" => Some(2.0),
         "r" => Some(0.5),
@@ -134,6 +136,7 @@ fn agree(a: &dyn Shape, b: &dyn Shape, rays: &[Ray], tol: f64) {
 
 #[test]
 fn implicit_sphere_matches_the_primitive() {
+    let _watchdog = crate::watchdog::start();
     let sphere = Sphere::new(DVec3::ZERO, 1.0, 0);
     let rays = testing::rays_towards(DVec3::ZERO, 1.5, 3000, 11);
     for text in ["x^2 + y^2 + z^2 - 1", "(x^2 + y^2 + z^2)_2 = 1"] {
@@ -146,6 +149,7 @@ fn implicit_sphere_matches_the_primitive() {
 
 #[test]
 fn four_tori_agree() {
+    let _watchdog = crate::watchdog::start();
     // The nested-root and textbook forms have their ring in the x-y plane
     // (about z); conventions.md's expanded form has it in the x-z plane
     // (about y), like the primitive.
@@ -193,6 +197,7 @@ fn four_tori_agree() {
 
 #[test]
 fn unbounded_surfaces_say_so_and_render() {
+    let _watchdog = crate::watchdog::start();
     let plane = ImplicitSurface::new(compile("x"), None, 0);
     assert_eq!(plane.bound_source(), BoundSource::Unbounded);
     assert!(plane.bound_note().is_some());
@@ -205,6 +210,7 @@ fn unbounded_surfaces_say_so_and_render() {
 
 #[test]
 fn zero_gradient_points_get_a_normal() {
+    let _watchdog = crate::watchdog::start();
     // The cone x² + y² − z² has a zero gradient at its apex.
     let cone = ImplicitSurface::new(compile("x^2 + y^2 - z^2"), None, 0);
     let r = Ray::new(DVec3::new(0.0, 0.0, 5.0), DVec3::new(0.0, 0.0, -1.0));
@@ -221,6 +227,7 @@ fn zero_gradient_points_get_a_normal() {
 #[test]
 #[ignore]
 fn timing() {
+    let _watchdog = crate::watchdog::start();
     let size = 1000;
     let run = |name: &str, scene: Scene| {
         let (_, stats) = draw(scene);
@@ -251,6 +258,7 @@ fn timing() {
 #[test]
 #[ignore]
 fn profile_one() {
+    let _watchdog = crate::watchdog::start();
     let scene = match std::env::var("RT_SCENE").as_deref() {
         Ok("sextic") => scenes::sextic(1000),
         Ok("native") => scenes::torus(TorusKind::Native, 1000),
@@ -269,6 +277,7 @@ fn profile_one() {
 /// is hit exactly where the surface in a huge given box is.
 #[test]
 fn automatic_boxes_clip_nothing() {
+    let _watchdog = crate::watchdog::start();
     // Wide, but not absurdly: a box 50 times the surface's size makes the
     // coefficients over its chord lose the digits a singular point needs.
     let huge = Aabb::new(DVec3::splat(-6.0), DVec3::splat(6.0));

@@ -31,6 +31,10 @@ pub struct ImplicitSurface {
     /// Whether the box came from `bounded_by`, the automatic search, or
     /// neither (see [`ImplicitSurface::bound_note`]).
     source: BoundSource,
+    /// Whether the nearest hit shows the faces of a given box where the box
+    /// cuts the solid, as the crossings always do (see
+    /// [`ImplicitSurface::solid_in_box`]).
+    solid_in_box: bool,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -57,7 +61,31 @@ impl ImplicitSurface {
             bounds,
             material,
             source,
+            solid_in_box: false,
         }
+    }
+
+    /// The surface as a solid in CSG: "equation < 0 inside the box", so
+    /// that its nearest hit is the first of its crossings, box faces
+    /// included where `bounded_by` cuts it (CSG asks a lone child of a union
+    /// for its nearest hit). Alone, a bounded surface is the surface clipped
+    /// to its box, open where the box cuts it.
+    pub fn solid_in_box(mut self) -> Self {
+        self.solid_in_box = true;
+        self
+    }
+
+    /// Whether the nearest hit must come from the crossings: a given box
+    /// may cut the solid, an automatic one only pads it.
+    fn faces_may_show(&self) -> bool {
+        self.solid_in_box && self.source == BoundSource::Given
+    }
+
+    /// The first crossing with `lo < t < hi`, box faces included.
+    fn first_crossing(&self, ray: &Ray, lo: f64, hi: f64) -> Option<Hit> {
+        let mut xs = Vec::new();
+        self.crossings(ray, &mut xs);
+        xs.into_iter().find(|h| h.t > lo && h.t < hi)
     }
 
     pub fn equation(&self) -> &Equation {
@@ -176,6 +204,29 @@ impl ImplicitSurface {
         DVec3::splat(along + shell.min(cap)) + rounding
     }
 
+    /// The hit on the face of the box where the line enters (or leaves) it
+    /// at `t`, with the face's normal turned against the ray when entering.
+    fn box_face_hit(&self, ray: &Ray, t: f64, entering: bool) -> Hit {
+        let p = ray.at(t);
+        let normal = box_face_normal(&self.bounds, p);
+        let normal = if (normal.dot(ray.dir) < 0.0) == entering {
+            normal
+        } else {
+            -normal
+        };
+        Hit {
+            t,
+            normal,
+            geo_normal: normal,
+            point: p,
+            p_error: crate::shapes::ray_point_error(ray, t),
+            uv: DVec2::ZERO,
+            local: p,
+            material: self.material,
+            path: 0,
+        }
+    }
+
     /// Whether `p` lies inside the solid: where the written equation is
     /// negative (its roots on their principal branch; where it is undefined,
     /// outside). Without roots that is the polynomial's sign.
@@ -207,6 +258,25 @@ impl ImplicitSurface {
     }
 }
 
+/// The outward normal of the face of `b` nearest to `p` (a point on the
+/// box's surface): the axis and side where p is closest to the box's wall,
+/// measured against the box's size on that axis.
+fn box_face_normal(b: &Aabb, p: DVec3) -> DVec3 {
+    let size = b.extent().max(DVec3::splat(f64::MIN_POSITIVE));
+    let mut best = (f64::INFINITY, DVec3::X);
+    for axis in 0..3 {
+        for (wall, sign) in [(b.min[axis], -1.0), (b.max[axis], 1.0)] {
+            let gap = (p[axis] - wall).abs() / size[axis];
+            if gap < best.0 {
+                let mut n = DVec3::ZERO;
+                n[axis] = sign;
+                best = (gap, n);
+            }
+        }
+    }
+    best.1
+}
+
 /// Every real root of c has |t| ≤ 1 + max |c_k / c_n|; `None` for a
 /// polynomial that is identically zero (a ray lying in the surface).
 fn cauchy_bound(c: &[f64]) -> Option<f64> {
@@ -221,6 +291,9 @@ fn cauchy_bound(c: &[f64]) -> Option<f64> {
 
 impl Shape for ImplicitSurface {
     fn intersect(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<Hit> {
+        if self.faces_may_show() {
+            return self.first_crossing(ray, t_min, t_max);
+        }
         let mut found = None;
         self.roots(ray, t_min, t_max, |t, p| {
             found = Some((t, p));
@@ -230,6 +303,9 @@ impl Shape for ImplicitSurface {
     }
 
     fn occludes(&self, ray: &Ray, t_min: f64, t_max: f64) -> bool {
+        if self.faces_may_show() {
+            return self.first_crossing(ray, t_min, t_max).is_some();
+        }
         let mut any = false;
         self.roots(ray, t_min, t_max, |_, _| {
             any = true;
@@ -244,24 +320,45 @@ impl Shape for ImplicitSurface {
     /// surface, and at singular points the gradient says nothing. So the
     /// side of the surface is read off the equation's sign between roots:
     /// a root is a crossing where the side changes, and its normal is turned
-    /// to agree (against the ray when entering). A bounded surface's line
-    /// starts and ends outside its box.
+    /// to agree (against the ray when entering).
+    ///
+    /// A bounded surface's solid is "equation < 0 inside the box": where the
+    /// box cuts the solid (the line enters the box with the equation
+    /// negative, or leaves it so), the box face is a crossing too, so that
+    /// an implicit cylinder cut by its box is the capped `cylinder`.
     fn crossings(&self, ray: &Ray, out: &mut Vec<Hit>) {
         let mut ts: Vec<(f64, DVec3)> = Vec::new();
         self.roots(ray, f64::NEG_INFINITY, f64::INFINITY, |t, p| {
             ts.push((t, p));
             false
         });
-        let Some(&(first, _)) = ts.first() else {
-            return;
+        // The line's stretch through the box, for a bounded surface.
+        let chord = if self.bounds.is_finite() {
+            match self.bounds.clip(ray, f64::NEG_INFINITY, f64::INFINITY) {
+                Some((a, b)) if a < b => Some((a, b)),
+                _ => return,
+            }
+        } else {
+            None
         };
-        let bounded = self.bounds.is_finite();
         let far = |t: f64| self.inside(ray.at(t));
-        let mut before = !bounded && far(first - (1.0 + first.abs()));
+        let mut before = match (chord, ts.first()) {
+            (Some((a, b)), first) => {
+                let end = first.map_or(b, |&(t, _)| t);
+                let cut = self.inside(ray.at(0.5 * (a + end)));
+                if cut {
+                    out.push(self.box_face_hit(ray, a, true));
+                }
+                cut
+            }
+            (None, Some(&(first, _))) => far(first - (1.0 + first.abs())),
+            (None, None) => return,
+        };
         for (k, &(t, p)) in ts.iter().enumerate() {
-            let after = match ts.get(k + 1) {
-                Some(&(next, _)) => self.inside(ray.at(0.5 * (t + next))),
-                None => !bounded && far(t + 1.0 + t.abs()),
+            let after = match (ts.get(k + 1), chord) {
+                (Some(&(next, _)), _) => self.inside(ray.at(0.5 * (t + next))),
+                (None, Some((_, b))) => self.inside(ray.at(0.5 * (t + b))),
+                (None, None) => far(t + 1.0 + t.abs()),
             };
             if after != before {
                 let mut h = self.hit_at(ray, t, p);
@@ -271,6 +368,9 @@ impl Shape for ImplicitSurface {
                 out.push(h);
             }
             before = after;
+        }
+        if let (Some((_, b)), true) = (chord, before) {
+            out.push(self.box_face_hit(ray, b, false));
         }
     }
 

@@ -47,6 +47,7 @@ pub const CONVENTIONS: &[(&str, u32)] = &[
 
 #[test]
 fn conventions_equations_compile_to_their_degree() {
+    let _watchdog = crate::watchdog::start();
     for (s, d) in CONVENTIONS {
         let e = compile(s).unwrap_or_else(|e| panic!("{s}: {e:?}"));
         assert_eq!(e.degree(), *d, "{s}");
@@ -55,6 +56,7 @@ fn conventions_equations_compile_to_their_degree() {
 
 #[test]
 fn roots_are_removed() {
+    let _watchdog = crate::watchdog::start();
     let a = compile("(x^2 + y^2 + z^2)_2 - 1").unwrap();
     let p = DVec3::new(0.3, -0.4, 0.5);
     let b = compile("x^2 + y^2 + z^2 - 1").unwrap();
@@ -81,6 +83,7 @@ fn roots_are_removed() {
 
 #[test]
 fn the_written_branch_is_kept() {
+    let _watchdog = crate::watchdog::start();
     // sqrt(x²+y²+z²) + 1 = 0 has no real point although its square does.
     let e = compile("(x^2 + y^2 + z^2)_2 + 1").unwrap();
     assert!(!e.on_written_branch(DVec3::new(1.0, 0.0, 0.0)));
@@ -94,6 +97,7 @@ fn the_written_branch_is_kept() {
 
 #[test]
 fn rhs_and_constants() {
+    let _watchdog = crate::watchdog::start();
     let a = compile("x^2 + y^2 = 1 - z^2").unwrap();
     let b = compile("x^2 + y^2 + z^2 - 1").unwrap();
     let p = DVec3::new(0.1, 0.7, -2.0);
@@ -117,6 +121,7 @@ fn first_error(s: &str) -> EquationError {
 
 #[test]
 fn errors_point_inside_the_string() {
+    let _watchdog = crate::watchdog::start();
     let e = first_error("x^2 + w^2 - 1");
     assert_eq!(e.message, "unknown variable `w`");
     assert_eq!(e.span, 6..7);
@@ -213,6 +218,7 @@ proptest! {
 
     #[test]
     fn expansion_matches_direct_evaluation(s in arb_expr(), px in -1.5f64..1.5, py in -1.5f64..1.5, pz in -1.5f64..1.5) {
+        let _watchdog = crate::watchdog::start();
         let p = DVec3::new(px, py, pz);
         let want = direct(&s, p);
         let Ok(eq) = Equation::compile(&s, &consts) else {
@@ -232,11 +238,13 @@ proptest! {
 
     #[test]
     fn never_panics_on_any_text(s in "\\PC{0,40}") {
+        let _watchdog = crate::watchdog::start();
         let _ = Equation::compile(&s, &consts);
     }
 
     #[test]
     fn never_panics_on_equation_like_text(s in "[xyzRr0-9 .+*/^_()=-]{0,40}") {
+        let _watchdog = crate::watchdog::start();
         let _ = Equation::compile(&s, &consts);
     }
 }
@@ -257,6 +265,7 @@ struct Shown {
 }
 
 fn render_error(text: &str) -> String {
+    let _watchdog = crate::watchdog::start();
     let errors = compile(text).expect_err("an error");
     let mut out = String::new();
     for e in errors {
@@ -276,6 +285,7 @@ fn render_error(text: &str) -> String {
 
 #[test]
 fn diagnostic_snapshots() {
+    let _watchdog = crate::watchdog::start();
     for (name, text) in [
         ("unknown_variable", "x^2 + w^2 - 1"),
         ("one_name", "xy + z - 1"),
@@ -295,6 +305,7 @@ fn diagnostic_snapshots() {
 /// one budget and this is refused at once.
 #[test]
 fn nested_roots_cannot_run_for_minutes() {
+    let _watchdog = crate::watchdog::start();
     let s = "(x^3 +(((x - .1 r^2)_2 - 1.5)^2  +y)_2 - 2 z^2)333333 * (y^2 + (((x - .1 r^2)_2 - 1.5)^2  +y)_2 - 2 z^2)333333 * (y^2 + -1.0)_1 * y^3 + 1 * (y^2 + -1.0)^0 * y^5 + 6.25 * (z^2 + -1.0)^2(z^2 + -1.0)^0 * z^5";
     let e = first_error(s);
     assert!(e.message.contains("too many terms"), "{}", e.message);
@@ -307,6 +318,20 @@ fn nested_roots_cannot_run_for_minutes() {
 /// copy a growing sum once per term (quadratic, uncounted by the budget).
 #[test]
 fn long_sums_around_roots_stay_quick() {
+    let _watchdog = crate::watchdog::start();
     let s = "-x-x (y)_2^2*z  (x^3 (y)_2^2*z  (x^3 + y)_2 - 2 (y)_2^2*z + y)_2 - 2 (y)_2^2*z  (x^2 + 4/4 y^2 +4(x^3 + y)_2 - 2 (y)_2^2*z + y)_2 - 2 (y)_2^2*z  (x^2 + 4/4 y^2 +4 z^2 -  z^2 - 1)^3 8/- 9--0 y_2 z^3";
-    let _ = compile(s);
+    let clock = std::time::Instant::now();
+    let out = compile(s);
+    // Quick: well inside the watchdog's minute (it took minutes before).
+    assert!(
+        clock.elapsed() < std::time::Duration::from_secs(5),
+        "{:?}",
+        clock.elapsed()
+    );
+    // And an answer either way: a surface of some degree within the cap,
+    // or a diagnostic saying why not.
+    match out {
+        Ok(eq) => assert!((1..=40).contains(&eq.degree()), "degree {}", eq.degree()),
+        Err(errs) => assert!(!errs.is_empty() && !errs[0].message.is_empty()),
+    }
 }

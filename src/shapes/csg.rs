@@ -40,6 +40,7 @@
 
 use super::{Crossing, Hit, Shape};
 use crate::geometry::{Aabb, DVec2, DVec3, Ray};
+use crate::scene::MaterialId;
 use std::cell::RefCell;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -62,6 +63,10 @@ pub struct Csg {
     bounds: Aabb,
     /// The same for the result's own bounds.
     extent: Reach,
+    /// The material the block gives its children (its own or inherited):
+    /// hits wearing it have their solid-texture point in this block's
+    /// space, see [`Csg::texture_space`].
+    texture_space: Option<MaterialId>,
 }
 
 /// One change of a child's inside flag along the line.
@@ -208,7 +213,34 @@ impl Csg {
             reach,
             bounds,
             extent,
+            texture_space: None,
         }
+    }
+
+    /// A texture given to a CSG block lives in the block's space (as in
+    /// POV-Ray): a solid pattern runs on through the seams between
+    /// children, whatever transforms place them. So every hit that wears
+    /// `material` (the block's own or the one it passes on) gets
+    /// [`Hit::local`] as the point in this block's space; a child that
+    /// names another material keeps its own. The (u, v) of such a hit is
+    /// worked out before its point moves (the child's shape reads its own
+    /// point for it). Nested blocks that pass the same material on end up
+    /// in the outermost one's space, as each level moves the point again.
+    pub fn texture_space(mut self, material: MaterialId) -> Self {
+        self.texture_space = Some(material);
+        self
+    }
+
+    /// Moves a hit of child `i` that wears the block's material into the
+    /// block's texture space (see [`Csg::texture_space`]).
+    fn in_texture_space(&self, ray: &Ray, mut h: Hit, i: usize) -> Hit {
+        if self.texture_space == Some(h.material) {
+            if h.path != LOST {
+                h.uv = self.children[i].uv(&h);
+            }
+            h.local = ray.at(h.t);
+        }
+        h
     }
 
     /// Whether a child contributes its inside (false) or cuts it away.
@@ -399,7 +431,8 @@ impl Csg {
                 if self.is_cutter(i) {
                     h = h.flipped();
                 }
-                return Hit { path: LOST, ..h };
+                let h = Hit { path: LOST, ..h };
+                return self.in_texture_space(ray, h, i);
             }
         }
         Hit {
@@ -538,7 +571,7 @@ impl Csg {
             for i in bits(alone) {
                 if let Some(h) = self.children[i].intersect(ray, t_min, t_best) {
                     t_best = h.t;
-                    found = Some(self.tagged(h, i as u32));
+                    found = Some(self.tagged(self.in_texture_space(ray, h, i), i as u32));
                 }
             }
             let mut swept = None;
@@ -633,7 +666,7 @@ impl Shape for Csg {
         if self.is_cutter(i) {
             h = h.flipped();
         }
-        self.tagged(h, i as u32)
+        self.tagged(self.in_texture_space(ray, h, i), i as u32)
     }
 
     fn bounds(&self) -> Aabb {
@@ -654,6 +687,10 @@ impl Shape for Csg {
     }
 
     fn uv(&self, hit: &Hit) -> DVec2 {
+        // Worked out already, before the point moved to this block's space.
+        if self.texture_space == Some(hit.material) {
+            return hit.uv;
+        }
         let n = self.children.len() as u64;
         if hit.path == LOST || n == 0 {
             return DVec2::ZERO;
@@ -697,6 +734,7 @@ mod tests {
 
     #[test]
     fn union_with_itself_is_itself() {
+        let _watchdog = crate::watchdog::start();
         let a = || sphere(DVec3::new(0.2, 0.1, 0.0), 1.0, 1);
         let u = Csg::new(CsgOp::Union, vec![a(), a()]);
         let i = Csg::new(CsgOp::Intersection, vec![a(), a()]);
@@ -709,6 +747,7 @@ mod tests {
 
     #[test]
     fn intersection_commutes() {
+        let _watchdog = crate::watchdog::start();
         let ab = Csg::new(
             CsgOp::Intersection,
             vec![
@@ -737,6 +776,7 @@ mod tests {
 
     #[test]
     fn sphere_minus_larger_concentric_sphere_is_empty() {
+        let _watchdog = crate::watchdog::start();
         let d = Csg::new(
             CsgOp::Difference,
             vec![sphere(DVec3::ZERO, 1.0, 1), sphere(DVec3::ZERO, 1.5, 2)],
@@ -751,6 +791,7 @@ mod tests {
 
     #[test]
     fn difference_of_boxes_is_the_box_built_directly() {
+        let _watchdog = crate::watchdog::start();
         let d = Csg::new(
             CsgOp::Difference,
             vec![
@@ -787,6 +828,7 @@ mod tests {
 
     #[test]
     fn box_and_sphere_match_the_analytic_shape() {
+        let _watchdog = crate::watchdog::start();
         let b = (DVec3::new(-1.0, -0.8, -1.0), DVec3::new(1.0, 0.8, 0.6));
         let (c, rad) = (DVec3::new(0.1, 0.0, 0.0), 1.2);
         let inside_box = |p: DVec3| p.cmpgt(b.0).all() && p.cmplt(b.1).all();
@@ -819,6 +861,7 @@ mod tests {
 
     #[test]
     fn nearest_hit_in_any_window_is_the_first_crossing_there() {
+        let _watchdog = crate::watchdog::start();
         // intersect() leaves out children that miss its window; the answer
         // must still be the whole line's crossing list cut to the window.
         let shapes = [
@@ -863,6 +906,7 @@ mod tests {
 
     #[test]
     fn inside_a_union_only_the_outer_surface_shows() {
+        let _watchdog = crate::watchdog::start();
         let u = Csg::new(
             CsgOp::Union,
             vec![
@@ -884,6 +928,7 @@ mod tests {
 
     #[test]
     fn plane_is_a_half_space() {
+        let _watchdog = crate::watchdog::start();
         let cut = || Box::new(Plane::new(DVec3::Y, 0.0, 3)) as Box<dyn Shape>;
         // Sphere minus everything below y = 0: the upper hemisphere.
         let top = Csg::new(CsgOp::Difference, vec![sphere(DVec3::ZERO, 1.0, 1), cut()]);
@@ -922,6 +967,7 @@ mod tests {
 
     #[test]
     fn tangent_rays_do_not_fill_the_line() {
+        let _watchdog = crate::watchdog::start();
         let u = Csg::new(
             CsgOp::Union,
             vec![
@@ -940,6 +986,7 @@ mod tests {
 
     #[test]
     fn nested_and_transformed() {
+        let _watchdog = crate::watchdog::start();
         // The lantern: (box ∩ sphere) minus three crossed cylinders, turned.
         let cyl = |t: Transform| -> Box<dyn Shape> {
             Box::new(Transformed::new(
@@ -994,6 +1041,7 @@ mod tests {
 
     #[test]
     fn uv_is_asked_of_the_shape_that_was_hit() {
+        let _watchdog = crate::watchdog::start();
         // A bitten ball in a union with a moved cylinder: each hit's (u, v)
         // must be what the leaf itself gives for that point.
         let ball = Sphere::new(DVec3::ZERO, 1.0, 1);
@@ -1034,8 +1082,50 @@ mod tests {
         assert!(seen[1] > 20 && seen[2] > 5 && seen[3] > 20, "{seen:?}");
     }
 
+    /// A nested unbounded intersection (a quarter-space: two planes) that a
+    /// line runs inside of without crossing it: the parent learns from
+    /// `encloses` that the whole line is inside, so a ball minus the
+    /// quarter-space shows nothing along a line within the quarter, and
+    /// the ball along one outside it.
+    #[test]
+    fn a_nested_unbounded_intersection_encloses_the_lines_inside_it() {
+        let _watchdog = crate::watchdog::start();
+        let quarter = || {
+            Box::new(Csg::new(
+                CsgOp::Intersection,
+                vec![
+                    Box::new(Plane::new(DVec3::Y, 0.0, 2)) as Box<dyn Shape>,
+                    Box::new(Plane::new(DVec3::X, 0.0, 2)),
+                ],
+            )) as Box<dyn Shape>
+        };
+        assert!(quarter().encloses(DVec3::new(-1.0, -1.0, 7.0)));
+        assert!(!quarter().encloses(DVec3::new(1.0, -1.0, 7.0)));
+        let ball_minus = Csg::new(
+            CsgOp::Difference,
+            vec![sphere(DVec3::ZERO, 5.0, 1), quarter()],
+        );
+        let ball_and = Csg::new(
+            CsgOp::Intersection,
+            vec![sphere(DVec3::ZERO, 5.0, 1), quarter()],
+        );
+        // Along z, parallel to both planes.
+        let inside = Ray::new(DVec3::new(-1.0, -1.0, 20.0), -DVec3::Z);
+        let outside = Ray::new(DVec3::new(1.0, -1.0, 20.0), -DVec3::Z);
+        assert!(ball_minus.intersect(&inside, 0.0, f64::INFINITY).is_none());
+        assert!(ball_minus.intersect(&outside, 0.0, f64::INFINITY).is_some());
+        let h = ball_and
+            .intersect(&inside, 0.0, f64::INFINITY)
+            .expect("the ball's quarter");
+        assert!((h.t - (20.0 - 23f64.sqrt())).abs() < 1e-9, "{h:?}");
+        assert!(ball_and.intersect(&outside, 0.0, f64::INFINITY).is_none());
+        assert_eq!(xs(&ball_and, &inside).len(), 2);
+        assert!(xs(&ball_minus, &inside).is_empty());
+    }
+
     #[test]
     fn nesting_too_deep_for_the_key_keeps_the_material() {
+        let _watchdog = crate::watchdog::start();
         // 70 unions of three children nest 3^70 > 2^64 keys deep: the key
         // overflows, and the hit must still be the right surface. The other
         // spheres lie further along the ray, so that every union sweeps.
@@ -1051,10 +1141,83 @@ mod tests {
         assert!((h.t - want).abs() < 1e-12, "{}", h.t);
         let p = r.at(h.t);
         assert!((h.normal.normalize() - p).length() < 1e-9, "{:?}", h.normal);
+        // Its path did not fit: marked lost, so (u, v) reads as zero rather
+        // than being asked of whichever child a wrapped path would name.
+        assert_eq!(h.path, LOST);
+    }
+
+    /// A lost crossing found again on a cutter of a difference is the
+    /// cutter's surface turned inside out, as when the key fits.
+    #[test]
+    fn a_lost_crossing_on_a_cutter_faces_out_of_the_result() {
+        let _watchdog = crate::watchdog::start();
+        let d = Csg::new(
+            CsgOp::Difference,
+            vec![
+                sphere(DVec3::ZERO, 2.0, 1),
+                sphere(DVec3::new(0.0, 0.0, 2.0), 1.0, 2),
+            ],
+        );
+        let r = Ray::new(DVec3::new(0.0, 0.0, 9.0), -DVec3::Z);
+        // Entering the result at z = 1, on the cutter (its back face).
+        let found = xs(&d, &r);
+        let first = found.first().expect("a crossing");
+        assert!((first.t - 8.0).abs() < 1e-12 && first.material == 2);
+        let c = Crossing::new(first.t, first.normal, &r, LOST);
+        let h = d.hit_of(&r, &c);
+        assert_eq!((h.t, h.material, h.path), (first.t, 2, LOST));
+        assert!(h.normal.dot(r.dir) < 0.0, "entering: {h:?}");
+    }
+
+    /// A union whose unbounded child (a half-space) holds the whole line
+    /// without crossing it: everything along the line is inside the union,
+    /// so the other children's surfaces there are inner ones, not seen.
+    #[test]
+    fn a_line_inside_an_unbounded_child_of_a_union_sees_no_inner_surfaces() {
+        let _watchdog = crate::watchdog::start();
+        let u = Csg::new(
+            CsgOp::Union,
+            vec![
+                Box::new(Plane::new(DVec3::Y, 0.0, 1)) as Box<dyn Shape>,
+                sphere(DVec3::ZERO, 1.0, 2),
+            ],
+        );
+        let below = Ray::new(DVec3::new(0.0, -0.5, 9.0), -DVec3::Z);
+        assert!(u.intersect(&below, 0.0, f64::INFINITY).is_none());
+        assert!(!u.occludes(&below, 0.0, f64::INFINITY));
+        let above = Ray::new(DVec3::new(0.0, 0.5, 9.0), -DVec3::Z);
+        let h = u.intersect(&above, 0.0, f64::INFINITY).expect("the sphere");
+        assert_eq!(h.material, 2);
+    }
+
+    /// The last resort of a lost crossing: no child has a crossing at its t
+    /// (it cannot be found again), so the hit is made from the crossing
+    /// alone: its t, a normal that says entering or leaving as `facing`
+    /// did, the point for solid textures, and the path marked lost.
+    #[test]
+    fn a_lost_crossing_no_child_has_is_still_a_consistent_hit() {
+        let _watchdog = crate::watchdog::start();
+        let u = Csg::new(CsgOp::Union, vec![sphere(DVec3::ZERO, 1.0, 4)]);
+        let r = Ray::new(DVec3::new(0.0, 0.0, 9.0), DVec3::new(0.0, 0.0, -2.0));
+        for facing in [-1.0, 1.0] {
+            let c = Crossing {
+                t: 2.5,
+                facing,
+                grazing: false,
+                key: LOST,
+            };
+            let h = u.hit_of(&r, &c);
+            assert_eq!(h.t, 2.5);
+            assert_eq!(h.local, r.at(2.5));
+            assert_eq!(h.path, LOST);
+            assert_eq!(h.normal.dot(r.dir).signum(), facing, "{h:?}");
+            assert_eq!(u.uv(&h), DVec2::ZERO);
+        }
     }
 
     #[test]
     fn lite_crossings_rebuild_the_same_hits() {
+        let _watchdog = crate::watchdog::start();
         // Each shape's crossings_lite, made into hits by hit_of, must be its
         // crossings exactly; the torus uses the trait's default bodies.
         use crate::shapes::Torus;
@@ -1105,6 +1268,7 @@ mod tests {
 
     #[test]
     fn union_of_apart_children_agrees_with_the_sweep() {
+        let _watchdog = crate::watchdog::start();
         // Children whose reaches along a ray do not overlap are asked for
         // their nearest hit directly; that must be what the full crossing
         // list says, in any window, floor included.
@@ -1147,6 +1311,7 @@ mod tests {
 
     #[test]
     fn quick_clip_agrees_with_aabb_clip() {
+        let _watchdog = crate::watchdog::start();
         let b = Aabb::new(DVec3::new(-1.0, 0.0, -0.5), DVec3::new(1.0, 2.0, 0.5));
         let mut rays = testing::rays_towards(DVec3::new(0.0, 1.0, 0.0), 2.0, 500, 71);
         // Axis-parallel, one of them in the plane of a face.
@@ -1209,6 +1374,7 @@ mod tests {
 
     #[test]
     fn rendered_from_inside_a_union_and_a_group() {
+        let _watchdog = crate::watchdog::start();
         let two = || {
             vec![
                 sphere(DVec3::new(-0.5, 0.0, 0.0), 1.0, 1),
@@ -1229,6 +1395,7 @@ mod tests {
 
     #[test]
     fn rendered_union_with_itself_is_the_shape() {
+        let _watchdog = crate::watchdog::start();
         let lens = || -> Box<dyn Shape> {
             Box::new(Csg::new(
                 CsgOp::Intersection,

@@ -690,6 +690,7 @@ mod tests {
 
     #[test]
     fn icosphere_is_closed_outward_and_round() {
+        let _watchdog = crate::watchdog::start();
         let d = sphere_mesh(3);
         assert_eq!(d.triangle_count(), 20 * 64);
         assert!(d.is_closed());
@@ -708,6 +709,7 @@ mod tests {
 
     #[test]
     fn silhouette_matches_the_analytic_sphere() {
+        let _watchdog = crate::watchdog::start();
         let d = sphere_mesh(3);
         // Every triangle's plane is at least `inner` from the centre: inside
         // that radius every ray must hit, beyond radius 1 none may.
@@ -747,6 +749,7 @@ mod tests {
 
     #[test]
     fn smooth_normals_follow_the_sphere() {
+        let _watchdog = crate::watchdog::start();
         let mesh = Mesh::new(sphere_mesh(2), true, 0);
         for r in testing::rays_towards(DVec3::ZERO, 0.7, 200, 5) {
             if let Some(h) = mesh.intersect(&r, 0.0, f64::INFINITY) {
@@ -759,28 +762,22 @@ mod tests {
 
     #[test]
     fn tree_agrees_with_brute_force_on_a_sphere() {
+        let _watchdog = crate::watchdog::start();
         let d = sphere_mesh(3);
         let hits = agree(&d, &testing::rays_towards(DVec3::ZERO, 1.5, 3000, 11));
         assert!(hits > 1000, "{hits}");
     }
 
+    /// The Stanford bunny from the shared data folder: a missing one fails
+    /// the test unless `RAYTRACE_SKIP_SHARED=1` (see `shared_data`).
     fn bunny() -> Option<MeshData> {
-        let path =
-            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/bunny.ply");
-        let path = if path.exists() {
-            path
-        } else {
-            "/work/shared/data/bunny.ply".into()
-        };
-        let d = MeshData::load(&path).ok();
-        if d.is_none() {
-            eprintln!("skipping: no bunny at {}", path.display());
-        }
-        d
+        let path = crate::shared_data::file("bunny.ply")?;
+        Some(MeshData::load(&path).unwrap_or_else(|e| panic!("{}: {e:?}", path.display())))
     }
 
     #[test]
     fn tree_agrees_with_brute_force_on_the_bunny() {
+        let _watchdog = crate::watchdog::start();
         let Some(d) = bunny() else { return };
         assert_eq!(d.triangle_count(), 69451);
         assert!(!d.is_closed(), "the bunny has holes in its base");
@@ -796,6 +793,7 @@ mod tests {
     /// (`--nocapture`) and holds the tree to them.
     #[test]
     fn bunny_rays_take_few_steps_and_tests() {
+        let _watchdog = crate::watchdog::start();
         let Some(d) = bunny() else { return };
         let mesh = Mesh::new(Arc::new(d), true, 0);
         let (shift, scale) = (DVec3::new(0.3368, -0.6597, 0.0308), 20.0);
@@ -882,6 +880,7 @@ mod tests {
             axis in 0usize..3,
             at in 0.0f64..1.0,
         ) {
+            let _watchdog = crate::watchdog::start();
             let c = corners;
             let tri = [
                 DVec3::new(c[0], c[1], c[2]),
@@ -924,6 +923,7 @@ mod tests {
 
     #[test]
     fn split_triangle_tightens_and_drops() {
+        let _watchdog = crate::watchdog::start();
         let cell = Aabb::new(DVec3::ZERO, DVec3::ONE);
         // A big triangle over the cell's corner at the origin, cut at x = 0.5:
         // the cell holds only a small part of it, all in the lower half.
@@ -944,6 +944,7 @@ mod tests {
     }
 
     fn soup(seed: u64, n: usize) -> MeshData {
+        let _watchdog = crate::watchdog::start();
         let mut s = seed | 1;
         let mut rnd = move || {
             s ^= s << 13;
@@ -979,6 +980,7 @@ mod tests {
         #![proptest_config(ProptestConfig::with_cases(24))]
         #[test]
         fn tree_agrees_with_brute_force_on_triangle_soups(seed in any::<u64>(), n in 1usize..400) {
+            let _watchdog = crate::watchdog::start();
             let d = soup(seed, n);
             let mut rays = testing::rays_towards(DVec3::ZERO, 3.0, 300, seed);
             // Rays along the axes, with zero direction components.
@@ -993,6 +995,7 @@ mod tests {
 
     #[test]
     fn instances_share_one_mesh() {
+        let _watchdog = crate::watchdog::start();
         let d = sphere_mesh(2);
         let a = Mesh::new(d.clone(), true, 1);
         let b = Mesh::new(d.clone(), false, 2);

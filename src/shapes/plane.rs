@@ -4,7 +4,11 @@
 //! ```text
 //! plane { normal <0, 1, 0>  offset 0  material floor }   // y = 0
 //! plane { material floor }                             // z = 0, normal +z
+//! plane { normal <0, 2, 0>  offset 1 }                  // y = 1
 //! ```
+//! The normal is normalised and the offset kept: the plane is n̂·p = d, d
+//! being the signed distance from the origin along the normal, whatever
+//! the length of the normal written (as in POV-Ray).
 //! Texture space: u = x, v = y in the plane's own frame (unbounded).
 
 use super::{Crossing, Hit, Shape};
@@ -129,5 +133,24 @@ mod tests {
             .intersect(&Ray::new(DVec3::new(0.3, 0.7, 1.0), -DVec3::Z), 0.0, 9.0)
             .unwrap();
         assert!((h.uv - DVec2::new(0.3, 0.7)).length() < 1e-12);
+    }
+
+    /// The offset is a distance along the unit normal, whatever the length
+    /// of the normal given: `normal <0, 2, 0>  offset 1` is y = 1, and a
+    /// tilted normal puts the plane `offset` from the origin.
+    #[test]
+    fn offset_is_the_distance_along_the_normalised_normal() {
+        let p = Plane::new(DVec3::new(0.0, 2.0, 0.0), 1.0, 0);
+        let h = p
+            .intersect(&Ray::new(DVec3::new(0.5, 5.0, -2.0), -DVec3::Y), 0.0, 99.0)
+            .unwrap();
+        assert!((h.t - 4.0).abs() < 1e-12, "{h:?}");
+        assert!(p.encloses(DVec3::new(0.0, 0.9, 0.0)) && !p.encloses(DVec3::new(0.0, 1.1, 0.0)));
+        // Normal (1, 1, 0) with offset √2: the plane through (1, 1, 0), whose
+        // nearest point to the origin lies √2 away.
+        let tilted = Plane::new(DVec3::new(3.0, 3.0, 0.0), 2f64.sqrt(), 0);
+        let r = Ray::new(DVec3::ZERO, DVec3::new(1.0, 1.0, 0.0).normalize());
+        let h = tilted.intersect(&r, 0.0, 99.0).unwrap();
+        assert!((h.t - 2f64.sqrt()).abs() < 1e-12, "{h:?}");
     }
 }

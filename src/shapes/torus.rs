@@ -184,6 +184,7 @@ mod tests {
 
     #[test]
     fn hits_the_ring_in_the_xz_plane() {
+        let _watchdog = crate::watchdog::start();
         let t = Torus::new(2.0, 0.5, 0);
         // Straight down onto the tube's top at x = 2.
         let r = Ray::new(DVec3::new(2.0, 5.0, 0.0), -DVec3::Y);
@@ -208,6 +209,7 @@ mod tests {
 
     #[test]
     fn consistent() {
+        let _watchdog = crate::watchdog::start();
         let t = Torus::new(1.5, 0.4, 0);
         testing::check_consistency(&t, &testing::rays_towards(DVec3::ZERO, 1.8, 2000, 3));
     }

@@ -95,6 +95,7 @@ const PRIMITIVE_TORUS: &str = "torus { major 3  minor 0.5  material a  rotate x 
 
 #[test]
 fn implicit_torus_minus_box_agrees_with_torus_primitive_minus_box() {
+    let _watchdog = crate::watchdog::start();
     let implicit = objects(&torus_minus_box(COURSE_TORUS));
     let primitive = objects(&torus_minus_box(PRIMITIVE_TORUS));
     let (i, p) = (&*implicit[0], &*primitive[0]);
@@ -145,6 +146,7 @@ difference {{
 
 #[test]
 fn closed_mesh_sphere_minus_box_agrees_with_sphere_minus_box() {
+    let _watchdog = crate::watchdog::start();
     let ply = project_root().join("examples/meshes/icosphere.ply");
     let mesh = format!(r#"mesh "{}" {{ smooth  material a }}"#, ply.display());
     let m = objects(&ball_minus_box(&mesh));
@@ -182,6 +184,7 @@ fn closed_mesh_sphere_minus_box_agrees_with_sphere_minus_box() {
 /// and its crossings alternate. Every kind of solid the language has.
 #[test]
 fn every_solid_is_its_own_union_and_intersection() {
+    let _watchdog = crate::watchdog::start();
     let ply = project_root().join("examples/meshes/icosphere.ply");
     let solids = [
         "sphere { radius 1  material a }".to_string(),
@@ -224,6 +227,7 @@ fn every_solid_is_its_own_union_and_intersection() {
 /// predicate says so: (cone ∪ implicit ball) minus torus.
 #[test]
 fn mixed_solids_match_the_analytic_shape() {
+    let _watchdog = crate::watchdog::start();
     let src = format!(
         r#"{HEAD}
 difference {{
@@ -270,6 +274,7 @@ difference {{
 /// inside): the union shows only the far wall, a group also the inner one.
 #[test]
 fn from_inside_a_union_and_a_group_of_two_spheres() {
+    let _watchdog = crate::watchdog::start();
     let scene = |op: &str| {
         format!(
             "camera {{ position <0, 0, 0>  look_at <1, 0, 0>  fov 60 }}
@@ -290,4 +295,72 @@ light {{ position <0, 0, 0> }}
     let group = render(&scene("group"));
     let centre = group.get(15, 10);
     assert!(centre[0] > 0.5 && centre[1] == 0.0, "{centre:?}");
+}
+
+/// An implicit whose `bounded_by` box cuts it is the solid "equation < 0
+/// inside the box": in CSG the box faces where it is cut are surfaces, so
+/// the implicit cylinder, cone and frustum cut by their boxes are the
+/// capped primitives. Before, a ray entering the box where the equation is
+/// negative got no entering crossing and the caps (and the fronts behind
+/// them) were lost.
+#[test]
+fn bounded_implicit_cut_by_its_box_equals_its_primitive_twin() {
+    let _watchdog = crate::watchdog::start();
+    let twins = [
+        (
+            // Radius 1, y from −1 to 1.
+            r#"implicit "x^2 + z^2 - 1" { bounded_by <-2, -1, -2> <2, 1, 2>  material a }"#,
+            "cylinder { radius 1  height 2  material a }",
+        ),
+        (
+            // Base radius 1 at y = −1, apex at y = 1: radius (1 − y)/2.
+            r#"implicit "x^2 + z^2 - ((1 - y)/2)^2" { bounded_by <-2, -1, -2> <2, 1, 2>  material a }"#,
+            "cone { radius 1  height 2  material a }",
+        ),
+        (
+            // Radius 1 at y = −1 to 0.5 at y = 1: radius (3 − y)/4.
+            r#"implicit "x^2 + z^2 - ((3 - y)/4)^2" { bounded_by <-2, -1, -2> <2, 1, 2>  material a }"#,
+            "cone { radius 1  top_radius 0.5  height 2  material a }",
+        ),
+    ];
+    for (implicit, primitive) in twins {
+        // Inside a union with nothing else, tilted so the caps face the
+        // camera; the primitive the same way.
+        let wrap = |s: &str| format!("{HEAD}\nunion {{ {s}  rotate x 35  rotate z 20 }}");
+        let (i, p) = (objects(&wrap(implicit)), objects(&wrap(primitive)));
+        let (mut caps, mut checked) = (0, 0);
+        for r in rays(DVec3::ZERO, 1.3, 2000, 0xca95) {
+            let (a, b) = (crossings(&*i[0], &r), crossings(&*p[0], &r));
+            assert!(
+                agree(&a, &b, &r, 1e-7),
+                "{implicit}\n{a:?}\nvs\n{b:?}\nfor {r:?}"
+            );
+            assert_alternating(&a, &r);
+            checked += a.len();
+            // Points on a cap: |y| = 1 in the solid's own frame, found as
+            // crossings whose normal is the tilted ±y axis.
+            use raytrace::geometry::Transform;
+            let tilt = Transform::rotate(DVec3::X, 35.0)
+                .and_then(|x| Some(x.then(&Transform::rotate(DVec3::Z, 20.0)?)))
+                .expect("rotations");
+            let y = tilt.vector(DVec3::Y);
+            caps += a
+                .iter()
+                .filter(|h| h.normal.normalize().dot(y).abs() > 1.0 - 1e-9)
+                .count();
+        }
+        assert!(
+            caps > 100 && checked > 1000,
+            "{implicit}: {caps} caps of {checked}"
+        );
+        // And the pictures agree.
+        let (fi, fp) = (render(&wrap(implicit)), render(&wrap(primitive)));
+        let differ = fi
+            .pixels
+            .iter()
+            .zip(&fp.pixels)
+            .filter(|(x, y)| (0..3).any(|k| (x[k] - y[k]).abs() > 1e-3))
+            .count();
+        assert_eq!(differ, 0, "{implicit}: {differ} pixels differ");
+    }
 }

@@ -40,6 +40,7 @@ fn report(files: &[(&str, &str)]) -> String {
 // 'sphere', plane found instead
 #[test]
 fn pov_missing_brace_before_the_next_object() {
+    let _watchdog = crate::watchdog::start();
     insta::assert_snapshot!(report(&[(
         "error_brace.rt",
         r#"// malformed on purpose: the sphere's closing brace is missing.
@@ -57,6 +58,7 @@ plane { normal <0, 1, 0>  material { colour rgb(0.8, 0.8, 0.8) } }
 // 'sphere', End of File found instead
 #[test]
 fn pov_unclosed_at_end_of_file() {
+    let _watchdog = crate::watchdog::start();
     insta::assert_snapshot!(report(&[(
         "error_eof.rt",
         r#"// malformed on purpose: the last object is never closed.
@@ -72,6 +74,7 @@ sphere { centre <0, 1, 0>  radius 1
 // expression', undeclared identifier 'Radus' found instead
 #[test]
 fn pov_misspelt_identifier() {
+    let _watchdog = crate::watchdog::start();
     insta::assert_snapshot!(report(&[(
         "error_ident.rt",
         r#"// malformed on purpose: `Radius` is declared, `Radus` is used.
@@ -88,6 +91,7 @@ sphere { centre <0, 1, 0>  radius Radus
 // found instead  (and no word on which file included it)
 #[test]
 fn pov_error_inside_an_included_file() {
+    let _watchdog = crate::watchdog::start();
     insta::assert_snapshot!(report(&[
         (
             "error_in_include.rt",
@@ -113,6 +117,7 @@ let C = 2
 // extension. ... Parse Error: Cannot open include file no_such_file.inc.
 #[test]
 fn pov_missing_include_file() {
+    let _watchdog = crate::watchdog::start();
     insta::assert_snapshot!(report(&[(
         "error_include.rt",
         r#"// malformed on purpose: the included file does not exist.
@@ -126,6 +131,7 @@ camera { position <0, 2, 8>  look_at <0, 1, 0> }
 // 'sphere', undeclared identifier 'pigmnet' found instead
 #[test]
 fn pov_misspelt_keyword() {
+    let _watchdog = crate::watchdog::start();
     insta::assert_snapshot!(report(&[(
         "error_keyword.rt",
         r#"// malformed on purpose: misspelt keyword `materail`.
@@ -142,6 +148,7 @@ sphere { centre <0, 1, 0>  radius 1
 // additional '.' in floating-point number
 #[test]
 fn pov_bad_number() {
+    let _watchdog = crate::watchdog::start();
     insta::assert_snapshot!(report(&[(
         "error_number.rt",
         r#"// malformed on purpose: a bad number `1.2.3` in a vector.
@@ -158,6 +165,7 @@ sphere { centre <0, 1.2.3, 0>  radius 1
 // found instead. Our analogue is `matrix` with 11 of its 12 numbers.
 #[test]
 fn pov_list_with_the_wrong_count() {
+    let _watchdog = crate::watchdog::start();
     insta::assert_snapshot!(report(&[(
         "error_poly.rt",
         r#"// malformed on purpose: a matrix needs 12 numbers; this one has 11.
@@ -176,6 +184,7 @@ sphere {
 // Ours: two errors, together.
 #[test]
 fn pov_two_vector_and_missing_value() {
+    let _watchdog = crate::watchdog::start();
     insta::assert_snapshot!(report(&[(
         "error_vector.rt",
         r#"// malformed on purpose: a 2-component centre, and a radius without its value.
@@ -189,6 +198,7 @@ sphere { centre <0, 1>  radius
 
 #[test]
 fn several_errors_in_one_file_are_reported_together() {
+    let _watchdog = crate::watchdog::start();
     insta::assert_snapshot!(report(&[(
         "scene.rt",
         r#"camera { position <0, 2, 8>  look_at <0, 2, 8> }
@@ -202,6 +212,7 @@ box { scale 0 }
 
 #[test]
 fn unknown_parameter_with_a_suggestion() {
+    let _watchdog = crate::watchdog::start();
     insta::assert_snapshot!(report(&[(
         "scene.rt",
         "light { positon <5, 10, 5>  intensity 0.8 }\n",
@@ -210,11 +221,13 @@ fn unknown_parameter_with_a_suggestion() {
 
 #[test]
 fn unknown_statement_with_a_suggestion() {
+    let _watchdog = crate::watchdog::start();
     insta::assert_snapshot!(report(&[("scene.rt", "sphre { radius 1 }\n")]));
 }
 
 #[test]
 fn duplicate_parameter() {
+    let _watchdog = crate::watchdog::start();
     insta::assert_snapshot!(report(&[(
         "scene.rt",
         "sphere {\n  radius 1\n  centre <0, 1, 0>\n  radius 2\n}\n",
@@ -223,6 +236,7 @@ fn duplicate_parameter() {
 
 #[test]
 fn wrong_value_kind() {
+    let _watchdog = crate::watchdog::start();
     insta::assert_snapshot!(report(&[(
         "scene.rt",
         "sphere { radius red }\nlight { position <0, 5, 0>  colour <1, 1, 1> }\n",
@@ -231,6 +245,7 @@ fn wrong_value_kind() {
 
 #[test]
 fn syntax_error_in_our_words() {
+    let _watchdog = crate::watchdog::start();
     insta::assert_snapshot!(report(&[(
         "scene.rt",
         "sphere { centre <0, 1, 0>  radius 1 + }\n",
@@ -239,6 +254,7 @@ fn syntax_error_in_our_words() {
 
 #[test]
 fn mistake_two_includes_deep_shows_the_whole_chain() {
+    let _watchdog = crate::watchdog::start();
     insta::assert_snapshot!(report(&[
         ("scene.rt", "let R = 1\ninclude \"parts/objects.rt\"\n"),
         (
@@ -256,6 +272,7 @@ fn mistake_two_includes_deep_shows_the_whole_chain() {
 // worth a specific hint.
 #[test]
 fn stray_comma_between_parameters() {
+    let _watchdog = crate::watchdog::start();
     insta::assert_snapshot!(report(&[(
         "scene.rt",
         "sphere { centre <0, 1, 0>, radius 1 }\n",

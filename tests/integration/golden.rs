@@ -9,6 +9,7 @@ const SCENES: &[&str] = &["spheres", "primitives", "csg", "textures", "implicit/
 
 #[test]
 fn examples_match_their_golden_images() {
+    let _watchdog = crate::watchdog::start();
     let update = std::env::var_os("RAYTRACE_UPDATE_GOLDEN").is_some();
     let mut failures = Vec::new();
     for name in SCENES {

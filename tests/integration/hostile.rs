@@ -60,6 +60,7 @@ fn outcome(src: &str) -> Result<raytrace::render::Film, String> {
 
 #[test]
 fn binary_garbage_is_refused_as_not_text() {
+    let _watchdog = crate::watchdog::start();
     let dir = tempfile::tempdir().unwrap();
     let garbage = dir.path().join("garbage.rt");
     // A fixed pseudo-random byte stream (no seed to vary between runs).
@@ -82,6 +83,7 @@ fn binary_garbage_is_refused_as_not_text() {
 
 #[test]
 fn empty_and_blank_files_give_a_picture_or_a_diagnostic() {
+    let _watchdog = crate::watchdog::start();
     for src in [
         "",
         "\n\n\n",
@@ -98,6 +100,7 @@ fn empty_and_blank_files_give_a_picture_or_a_diagnostic() {
 
 #[test]
 fn a_ten_megabyte_line_is_read() {
+    let _watchdog = crate::watchdog::start();
     let long = format!(
         "camera {{ position <0, 0, 5> look_at <0, 0, 0> up <0, 1, 0> fov 40 }} sphere {{ radius 1 }} // {}",
         "x".repeat(10 << 20)
@@ -115,6 +118,7 @@ fn a_ten_megabyte_line_is_read() {
 
 #[test]
 fn deep_nesting_is_a_diagnostic_not_a_stack_overflow() {
+    let _watchdog = crate::watchdog::start();
     let n = 20_000;
     let cases = [
         format!(
@@ -159,6 +163,7 @@ fn deep_nesting_is_a_diagnostic_not_a_stack_overflow() {
 /// an infinite or NaN value: a diagnostic or a picture each time.
 #[test]
 fn infinite_and_nan_numbers_in_every_position() {
+    let _watchdog = crate::watchdog::start();
     let dir = tempfile::tempdir().unwrap();
     let mut scenes = Vec::new();
     for name in ["primitives.rt", "transforms.rt", "csg.rt"] {
@@ -225,29 +230,66 @@ fn number_spans(src: &str) -> Vec<(usize, usize)> {
 
 #[test]
 fn degenerate_geometry_gives_pictures_or_diagnostics() {
+    let _watchdog = crate::watchdog::start();
     let cam = "camera { position <0, 0, 5> look_at <0, 0, 0> up <0, 1, 0> fov 40 }\nlight { position <2, 5, 5> intensity 1 }\n";
+    // Each: the message its diagnostic must give, or "" for a picture in
+    // which nothing is there (an empty solid: every pixel background).
+    let must_be = "this must be greater than 0";
+    let no_box = "a box's `max` must be greater than its `min` on every axis";
+    let singular = "this scale is singular";
     let shapes = [
-        "sphere { radius 0 }",
-        "sphere { radius -1 }",
-        "box { min <0, 0, 0> max <0, 0, 0> }",
-        "box { min <1, 1, 1> max <-1, -1, -1> }",
-        "triangle { a <0, 0, 0> b <1, 1, 1> c <2, 2, 2> }",
-        "triangle { a <0, 0, 0> b <0, 0, 0> c <0, 0, 0> }",
-        "rectangle { bottom_left <0, 0, 0> top_left <0, 0, 0> bottom_right <1, 0, 0> }",
-        "cylinder { radius 0 height 0 }",
-        "cone { radius 0 height 0 }",
-        "disc { radius 0 }",
-        "torus { major 0 minor 0 }",
-        "sphere { radius 1 scale 0 }",
-        "sphere { radius 1 scale <1, 0, 1> }",
-        "sphere { radius 1 matrix [0 0 0 0 0 0 0 0 0 0 0 0] }",
-        "difference { sphere { radius 1 } sphere { radius 1 } }",
-        "intersection { sphere { radius 1 translate <-5, 0, 0> } sphere { radius 1 translate <5, 0, 0> } }",
-        "union { }",
-        "plane { normal <0, 0, 0> }",
+        ("sphere { radius 0 }", must_be),
+        ("sphere { radius -1 }", must_be),
+        ("box { min <0, 0, 0> max <0, 0, 0> }", no_box),
+        ("box { min <1, 1, 1> max <-1, -1, -1> }", no_box),
+        (
+            "triangle { a <0, 0, 0> b <1, 1, 1> c <2, 2, 2> }",
+            "this triangle has no area",
+        ),
+        (
+            "triangle { a <0, 0, 0> b <0, 0, 0> c <0, 0, 0> }",
+            "this triangle has no area",
+        ),
+        (
+            "rectangle { bottom_left <0, 0, 0> top_left <0, 0, 0> bottom_right <1, 0, 0> }",
+            "this rectangle has no area",
+        ),
+        ("cylinder { radius 0 height 0 }", must_be),
+        ("cone { radius 0 height 0 }", must_be),
+        ("disc { radius 0 }", must_be),
+        ("torus { major 0 minor 0 }", must_be),
+        ("sphere { radius 1 scale 0 }", singular),
+        ("sphere { radius 1 scale <1, 0, 1> }", singular),
+        (
+            "sphere { radius 1 matrix [0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0] }",
+            "singular",
+        ),
+        ("difference { sphere { radius 1 } sphere { radius 1 } }", ""),
+        (
+            "intersection { sphere { radius 1 translate <-5, 0, 0> } sphere { radius 1 translate <5, 0, 0> } }",
+            "",
+        ),
+        ("union { }", "`union` holds no objects"),
+        (
+            "plane { normal <0, 0, 0> }",
+            "a plane's normal cannot be zero",
+        ),
     ];
-    for s in shapes {
-        let _ = outcome(&format!("{cam}{s}"));
+    for (s, expect) in shapes {
+        match outcome(&format!("{cam}{s}")) {
+            Ok(film) => {
+                assert!(expect.is_empty(), "{s}: a picture, not `{expect}`");
+                let bg = film.pixels[0];
+                assert!(
+                    film.pixels.iter().all(|p| *p == bg) && bg == [0.0; 3],
+                    "{s}: an empty solid shows nothing"
+                );
+            }
+            Err(e) => assert!(
+                !expect.is_empty() && e.contains(expect),
+                "{s}: expected `{expect}`, got {e}"
+            ),
+        }
     }
     // Up parallel to the view direction, look_at at the position, zero fov.
     for c in [
@@ -257,15 +299,14 @@ fn degenerate_geometry_gives_pictures_or_diagnostics() {
         "camera { position <0, 0, 5> look_at <0, 0, 0> up <0, 1, 0> fov 0 }",
         "camera { position <0, 0, 5> look_at <0, 0, 0> up <0, 1, 0> fov 180 }",
     ] {
-        let r = outcome(&format!("{c}\nsphere {{ radius 1 }}"));
-        if let Err(e) = r {
-            assert!(
-                ["camera", "up", "fov", "angle"]
-                    .iter()
-                    .any(|w| e.contains(w)),
-                "{e}"
-            );
-        }
+        // Each is refused, saying what is wrong with the camera.
+        let e = outcome(&format!("{c}\nsphere {{ radius 1 }}"))
+            .err()
+            .unwrap_or_else(|| panic!("{c}: rendered"));
+        assert!(
+            ["camera", "up", "angle"].iter().any(|w| e.contains(w)),
+            "{e}"
+        );
     }
     // A camera and a light inside a closed sphere see its inside, lit.
     let inside = "camera { position <0, 0, 0> look_at <0, 0, -1> up <0, 1, 0> fov 60 }\n\
@@ -280,6 +321,7 @@ fn degenerate_geometry_gives_pictures_or_diagnostics() {
 
 #[test]
 fn special_files_are_refused_not_read_forever() {
+    let _watchdog = crate::watchdog::start();
     let dir = tempfile::tempdir().unwrap();
     // A scene that is a folder, and one that is a device.
     let out = raytrace(&[dir.path().as_os_str(), "--check".as_ref()]);
@@ -307,6 +349,7 @@ fn special_files_are_refused_not_read_forever() {
 
 #[test]
 fn a_ply_header_claiming_a_trillion_vertices_allocates_nothing() {
+    let _watchdog = crate::watchdog::start();
     let ply = "ply\nformat ascii 1.0\nelement vertex 1000000000000\nproperty float x\nproperty float y\nproperty float z\nelement face 1000000000000\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n";
     assert!(raytrace::shapes::MeshData::from_bytes(ply.as_bytes()).is_err());
     let bin = ply.replace("ascii", "binary_little_endian");
@@ -315,6 +358,7 @@ fn a_ply_header_claiming_a_trillion_vertices_allocates_nothing() {
 
 #[test]
 fn texture_images_claiming_huge_sizes_are_refused() {
+    let _watchdog = crate::watchdog::start();
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("huge.ppm"), b"P6\n100000 100000\n255\n\0").unwrap();
     let e = outcome_at(
@@ -327,6 +371,7 @@ fn texture_images_claiming_huge_sizes_are_refused() {
 
 #[test]
 fn invalid_command_lines_are_clear_errors() {
+    let _watchdog = crate::watchdog::start();
     let (dir, scene) = scene_file(
         "camera { position <0, 0, 5> look_at <0, 0, 0> up <0, 1, 0> fov 40 }\nsphere { radius 1 }",
     );
@@ -365,20 +410,31 @@ fn invalid_command_lines_are_clear_errors() {
     assert!(!png.exists());
 }
 
-/// A render killed halfway, by SIGINT (the Ctrl-C handler) or SIGKILL,
-/// leaves the existing image as it was and no temporary file.
+/// A render interrupted while its image is being written: Ctrl-C (SIGINT)
+/// runs the handler, which deletes the temporary file and exits with 130
+/// (128 + SIGINT); SIGKILL cannot be handled, but the old image stays as it
+/// was either way (the new one arrives only by rename). The signal is sent
+/// once the temporary file exists, so the handler's work is what is tested.
 #[test]
 fn an_interrupted_render_leaves_the_old_image_and_no_temporary() {
+    let _watchdog = crate::watchdog::start();
+    // Quick to trace (nothing but a sphere against the background), long
+    // to encode: 9 million pixels of PNG.
     let (dir, scene) = scene_file(
         "camera { position <0, 0, 5> look_at <0, 0, 0> up <0, 1, 0> fov 40 }\n\
-         render { width 3000 height 3000 samples 16 max_depth 8 }\n\
-         light { position <2, 5, 5> intensity 1 }\n\
-         sphere { radius 1 material { colour rgb(1, 1, 1) reflect 0.5 } }\n\
-         plane { normal <0, 1, 0> material { colour rgb(1, 1, 1) reflect 0.5 } translate <0, -1, 0> }",
+         render { width 3000 height 3000 }\n\
+         sphere { radius 1 }",
     );
     let out = dir.path().join("out.png");
-    std::fs::write(&out, b"the previous image").unwrap();
+    let temporaries = || -> Vec<String> {
+        std::fs::read_dir(dir.path())
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .filter(|n| n.ends_with(".tmp"))
+            .collect()
+    };
     for signal in ["-INT", "-KILL"] {
+        std::fs::write(&out, b"the previous image").unwrap();
         let mut child = Command::new(env!("CARGO_BIN_EXE_raytrace"))
             .args([
                 scene.as_os_str(),
@@ -388,26 +444,33 @@ fn an_interrupted_render_leaves_the_old_image_and_no_temporary() {
             ])
             .spawn()
             .unwrap();
-        std::thread::sleep(std::time::Duration::from_millis(700));
+        // Wait for the write to begin (the watchdog bounds the wait).
+        loop {
+            if !temporaries().is_empty() {
+                break;
+            }
+            if let Some(status) = child.try_wait().unwrap() {
+                panic!("finished ({status}) before its temporary file was seen");
+            }
+            std::thread::sleep(std::time::Duration::from_micros(200));
+        }
         let killed = Command::new("kill")
             .args([signal, &child.id().to_string()])
             .status()
             .unwrap();
         assert!(killed.success());
         let status = child.wait().unwrap();
-        assert!(
-            !status.success(),
-            "the render was still running when killed"
-        );
         assert_eq!(std::fs::read(&out).unwrap(), b"the previous image");
-        let names: Vec<_> = std::fs::read_dir(dir.path())
-            .unwrap()
-            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-            .collect();
-        assert!(
-            names.iter().all(|n| !n.ends_with(".tmp")),
-            "left behind: {names:?}"
-        );
+        if signal == "-INT" {
+            assert_eq!(status.code(), Some(130), "{status}");
+            assert!(temporaries().is_empty(), "left behind: {:?}", temporaries());
+        } else {
+            assert!(!status.success(), "{status}");
+            // SIGKILL leaves its temporary (nothing can run); tidy up.
+            for t in temporaries() {
+                std::fs::remove_file(dir.path().join(t)).unwrap();
+            }
+        }
     }
 }
 
@@ -416,6 +479,7 @@ fn an_interrupted_render_leaves_the_old_image_and_no_temporary() {
 /// comes from the temporary file beside it.
 #[test]
 fn unwritable_targets_are_clear_errors() {
+    let _watchdog = crate::watchdog::start();
     if !Path::new("/dev/full").exists() {
         return;
     }
@@ -424,14 +488,32 @@ fn unwritable_targets_are_clear_errors() {
     );
     let out = raytrace(&[scene.as_os_str(), "-o".as_ref(), "/dev/full/x.png".as_ref()]);
     assert_refused(&out, "cannot write");
-    // A read-only folder (root may write anyway, so only when it refuses).
+    // A folder in which no one may create files, root included (how CI
+    // runs): /proc. The write is refused and nothing appears there.
+    if Path::new("/proc/self").exists() {
+        let target = Path::new("/proc/raytrace-test-out.png");
+        let out = raytrace(&[scene.as_os_str(), "-o".as_ref(), target.as_os_str()]);
+        assert_refused(&out, "cannot write");
+        assert!(!target.exists());
+    }
+    // A read-only folder: refused to anyone who cannot write in it, which
+    // is asked first, so that the check runs wherever it can mean something.
     let ro = tempfile::tempdir().unwrap();
     let mut perm = std::fs::metadata(ro.path()).unwrap().permissions();
     perm.set_readonly(true);
     std::fs::set_permissions(ro.path(), perm).unwrap();
+    let probe = ro.path().join("probe");
+    let privileged = std::fs::write(&probe, b"").is_ok();
+    let _ = std::fs::remove_file(&probe);
     let target = ro.path().join("x.png");
     let out = raytrace(&[scene.as_os_str(), "-o".as_ref(), target.as_os_str()]);
-    if !out.status.success() {
+    if privileged {
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    } else {
         assert_refused(&out, "cannot write");
         assert_eq!(std::fs::read_dir(ro.path()).unwrap().count(), 0);
     }
@@ -444,6 +526,7 @@ fn unwritable_targets_are_clear_errors() {
 /// the same path with a simulated disk, and this test says it was skipped.
 #[test]
 fn a_full_disk_is_a_clear_error_and_keeps_the_old_image() {
+    let _watchdog = crate::watchdog::start();
     let dir = tempfile::tempdir().unwrap();
     let mnt = dir.path().join("small");
     std::fs::create_dir(&mnt).unwrap();
@@ -493,6 +576,7 @@ fn a_full_disk_is_a_clear_error_and_keeps_the_old_image() {
 /// without building the sum first.
 #[test]
 fn a_mistake_on_a_huge_line_gives_a_short_report() {
+    let _watchdog = crate::watchdog::start();
     let sum = format!("let a = {}\n", vec!["1"; 1_000_000].join("+"));
     let mut typo = "camera { position <0, 0, 5>  look_at <0, 0, 0> }\n".to_owned();
     typo.push_str(&"sphere { radius 1 } ".repeat(50_000));

@@ -73,6 +73,7 @@ fn centre_of(s: &Scene, i: usize) -> DVec3 {
 
 #[test]
 fn constants_feed_later_expressions() {
+    let _watchdog = crate::watchdog::start();
     let s =
         build("let R = 4\nlet half = R / 2\nsphere { radius half - 1  centre <R, 0, 0> * 0.5 }");
     let b = s.objects[0].bounds();
@@ -82,6 +83,7 @@ fn constants_feed_later_expressions() {
 
 #[test]
 fn constants_are_defined_once_and_before_use() {
+    let _watchdog = crate::watchdog::start();
     let e = errors("let a = 1\nlet a = 2");
     assert_eq!(e, ["`a` is already defined"]);
     let e = errors("sphere { radius r }\nlet r = 1");
@@ -92,6 +94,7 @@ fn constants_are_defined_once_and_before_use() {
 
 #[test]
 fn includes_are_relative_to_the_including_file() {
+    let _watchdog = crate::watchdog::start();
     let f = Files::new();
     f.write(
         "parts/materials.rt",
@@ -113,6 +116,7 @@ fn includes_are_relative_to_the_including_file() {
 
 #[test]
 fn include_cycles_and_missing_files_are_errors() {
+    let _watchdog = crate::watchdog::start();
     let f = Files::new();
     f.write("a.rt", "include \"b.rt\"");
     f.write("b.rt", "include \"a.rt\"");
@@ -129,6 +133,7 @@ fn include_cycles_and_missing_files_are_errors() {
 
 #[test]
 fn transforms_apply_in_the_order_written() {
+    let _watchdog = crate::watchdog::start();
     let s = build(
         "sphere { radius 0.5 translate <1, 0, 0> rotate z 90 }\n\
          sphere { radius 0.5 rotate z 90 translate <1, 0, 0> }",
@@ -143,6 +148,7 @@ fn transforms_apply_in_the_order_written() {
 
 #[test]
 fn a_groups_transform_follows_its_childrens_and_wraps_once() {
+    let _watchdog = crate::watchdog::start();
     let s = build(
         "group { sphere { translate <1, 0, 0> } sphere { translate <2, 0, 0> } rotate z 90 scale 2 }",
     );
@@ -158,6 +164,7 @@ fn a_groups_transform_follows_its_childrens_and_wraps_once() {
 
 #[test]
 fn every_transform_kind() {
+    let _watchdog = crate::watchdog::start();
     let s = build(
         "sphere { translate <0, 1, 0> shear yx 2 }\n\
          sphere { translate <1, 0, 0> mirror x }\n\
@@ -173,6 +180,7 @@ fn every_transform_kind() {
 
 #[test]
 fn rays_hit_the_transformed_sphere() {
+    let _watchdog = crate::watchdog::start();
     let s = build("sphere { scale <2, 1, 1> translate <0, 0, -1> }");
     let r = Ray::new(DVec3::new(5.0, 0.0, -1.0), DVec3::new(-1.0, 0.0, 0.0));
     let h = s.objects[0].intersect(&r, 1e-9, f64::INFINITY).unwrap();
@@ -181,6 +189,7 @@ fn rays_hit_the_transformed_sphere() {
 
 #[test]
 fn a_negative_value_after_a_name_is_the_value() {
+    let _watchdog = crate::watchdog::start();
     // `offset -1` is read as the subtraction `offset - 1` by the grammar;
     // the builder splits it back.
     let s = build("plane { normal <0, 1, 0>  offset -1 }");
@@ -191,6 +200,7 @@ fn a_negative_value_after_a_name_is_the_value() {
 
 #[test]
 fn hex_and_named_colours_decode_with_the_scenes_gamma() {
+    let _watchdog = crate::watchdog::start();
     // The material comes before `render`: gamma is still known first.
     let s = build(
         "material m { colour #808080 }\nmaterial n { colour green }\nmaterial o { colour rgb(0.5, 0.5, 0.5) }\nrender { gamma 2 }",
@@ -210,6 +220,7 @@ fn hex_and_named_colours_decode_with_the_scenes_gamma() {
 
 #[test]
 fn materials_named_inline_and_inherited() {
+    let _watchdog = crate::watchdog::start();
     let s = build(
         "material gold { colour gold reflect 0.3 }\n\
          sphere { material gold }\n\
@@ -236,6 +247,7 @@ fn materials_named_inline_and_inherited() {
 
 #[test]
 fn camera_render_ambient_and_lights() {
+    let _watchdog = crate::watchdog::start();
     let s = build(
         "camera { position <0, 0, 4>  look_at <0, 0, 0>  up <0, 1, 0>  distance 1  width 2  height 1.5 }\n\
          render { width 320  height 240  max_depth 2  background rgb(0.1, 0.2, 0.3)  gamma linear }\n\
@@ -267,6 +279,7 @@ fn camera_render_ambient_and_lights() {
 
 #[test]
 fn camera_mistakes() {
+    let _watchdog = crate::watchdog::start();
     assert_eq!(
         errors("camera { position <1, 1, 1> look_at <1, 1, 1> }"),
         ["the camera looks at its own position"]
@@ -291,6 +304,7 @@ fn camera_mistakes() {
 
 #[test]
 fn numbers_the_user_controls_are_validated() {
+    let _watchdog = crate::watchdog::start();
     assert_eq!(
         errors("sphere { radius 0 }"),
         ["this must be greater than 0"]
@@ -323,12 +337,14 @@ fn numbers_the_user_controls_are_validated() {
 
 #[test]
 fn all_errors_are_reported_together() {
+    let _watchdog = crate::watchdog::start();
     let e = errors("sphere { radius -1 }\nsphere { centre <1, 2> }\nplane { nromal <0, 1, 0> }");
     assert_eq!(e.len(), 3, "{e:?}");
 }
 
 #[test]
 fn equation_errors_land_inside_the_string() {
+    let _watchdog = crate::watchdog::start();
     let f = Files::new();
     // `q` is at byte 16 of the file: 10 for `implicit "`, 6 into the string.
     let src = "implicit \"x^2 + q^2\" { }";
@@ -341,6 +357,7 @@ fn equation_errors_land_inside_the_string() {
 
 #[test]
 fn csg_refuses_open_surfaces() {
+    let _watchdog = crate::watchdog::start();
     assert_eq!(
         errors("difference { sphere { } disc { } }"),
         ["`disc` is an open surface and cannot be used in `difference`: it has no inside"]
@@ -349,6 +366,7 @@ fn csg_refuses_open_surfaces() {
 
 #[test]
 fn deep_nesting_is_an_error_not_a_crash() {
+    let _watchdog = crate::watchdog::start();
     for src in [
         "(".repeat(100_000),
         format!("let a = {}1{}", "(".repeat(100_000), ")".repeat(100_000)),
@@ -432,6 +450,7 @@ proptest! {
 
     #[test]
     fn random_bytes_never_panic(bytes in proptest::collection::vec(any::<u8>(), 0..300)) {
+        let _watchdog = crate::watchdog::start();
         let f = Files::new();
         let p = f.dir.path().join("scene.rt");
         std::fs::write(&p, &bytes).unwrap();
@@ -440,6 +459,7 @@ proptest! {
 
     #[test]
     fn random_tokens_never_panic(tokens in proptest::collection::vec(proptest::sample::select(TOKENS), 0..80)) {
+        let _watchdog = crate::watchdog::start();
         let f = Files::new();
         let p = f.write("scene.rt", &tokens.join(" "));
         let _ = try_build(&p);
@@ -450,6 +470,7 @@ proptest! {
 /// from the parser: every one parses, and the statement examples build.
 #[test]
 fn the_language_reference_examples_work() {
+    let _watchdog = crate::watchdog::start();
     let doc = include_str!("../../docs/language.md");
     let blocks: Vec<&str> = doc
         .split("```")
@@ -525,6 +546,7 @@ fn the_language_reference_examples_work() {
 
 #[test]
 fn a_texture_value_keeps_its_block() {
+    let _watchdog = crate::watchdog::start();
     // One clear error for a misspelt texture, not a stray-block error too.
     assert_eq!(
         errors("material m { colour chequer { a white  b black }  reflect 0.5 }"),
@@ -539,6 +561,7 @@ fn a_texture_value_keeps_its_block() {
 
 #[test]
 fn includes_inside_blocks_add_to_the_block() {
+    let _watchdog = crate::watchdog::start();
     let f = Files::new();
     f.write(
         "balls.rt",
@@ -562,6 +585,7 @@ fn includes_inside_blocks_add_to_the_block() {
 
 #[test]
 fn mesh_files_are_found_relative_to_the_scene_and_errors_name_them() {
+    let _watchdog = crate::watchdog::start();
     let f = Files::new();
     f.write(
         "models/bad.ply",
@@ -582,6 +606,7 @@ fn mesh_files_are_found_relative_to_the_scene_and_errors_name_them() {
 
 #[test]
 fn a_group_inside_csg_is_a_union() {
+    let _watchdog = crate::watchdog::start();
     // (A ∪ B) ∩ C is A ∪ B here; were the group's children flattened into
     // the intersection, A ∩ B ∩ C would be empty.
     let s = build(
@@ -600,6 +625,7 @@ fn a_group_inside_csg_is_a_union() {
 
 #[test]
 fn a_material_may_share_a_keywords_name() {
+    let _watchdog = crate::watchdog::start();
     // `mirror` is also a transform; after `material` it is the material.
     let s = build(
         "material mirror { colour white  reflect 0.9 }\nsphere { radius 1  material mirror }\nsphere { material mirror  mirror x }",
@@ -610,6 +636,7 @@ fn a_material_may_share_a_keywords_name() {
 
 #[test]
 fn a_minus_after_a_space_starts_a_new_value() {
+    let _watchdog = crate::watchdog::start();
     // `rotate y -90` is the axis `y` and the angle −90, not `y - 90`.
     let s = build("box { min <0, 0, 0>  max <1, 1, 1>  rotate y -90 }");
     let b = s.objects[0].bounds();

@@ -11,6 +11,11 @@ mod hostile;
 mod lang;
 mod looks;
 mod mesh;
+mod placement;
 mod render;
+#[path = "../../src/shared_data.rs"]
+mod shared_data;
 mod support;
 mod textures;
+#[path = "../../src/watchdog.rs"]
+mod watchdog;

@@ -17,15 +17,25 @@ fn icosphere_ply() -> String {
 
 #[test]
 fn example_icosphere_is_generated_by_the_project() {
+    let _watchdog = crate::watchdog::start();
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/meshes/icosphere.ply");
     let want = icosphere_ply();
-    match std::fs::read_to_string(&path) {
-        Ok(have) => assert!(
-            have == want,
-            "examples/meshes/icosphere.ply is stale: delete it and rerun the tests"
-        ),
-        Err(_) => std::fs::write(&path, &want).expect("write the example icosphere"),
+    // Written only on request: a fixture written when missing would then be
+    // compared with itself, and the test could not fail.
+    if crate::support::regenerate_fixtures() {
+        std::fs::write(&path, &want).expect("write the example icosphere");
     }
+    let have = std::fs::read_to_string(&path).unwrap_or_else(|e| {
+        panic!(
+            "examples/meshes/icosphere.ply: {e}; run the tests with \
+             RAYTRACE_REGENERATE_FIXTURES=1 to write it"
+        )
+    });
+    assert!(
+        have == want,
+        "examples/meshes/icosphere.ply is stale: rerun the tests with \
+         RAYTRACE_REGENERATE_FIXTURES=1 to rewrite it"
+    );
     let d = MeshData::load(&path).unwrap();
     assert_eq!(d.triangle_count(), 1280);
     assert!(d.is_closed());
@@ -33,6 +43,7 @@ fn example_icosphere_is_generated_by_the_project() {
 
 #[test]
 fn meshes_load_from_disk_with_crlf_and_report_bad_files() {
+    let _watchdog = crate::watchdog::start();
     let dir = tempfile::tempdir().unwrap();
     let good = dir.path().join("good.ply");
     std::fs::write(&good, icosphere_ply().replace('\n', "\r\n")).unwrap();
@@ -51,6 +62,7 @@ fn meshes_load_from_disk_with_crlf_and_report_bad_files() {
 
 #[test]
 fn placed_instances_match_a_moved_sphere() {
+    let _watchdog = crate::watchdog::start();
     let data = Arc::new(MeshData::from_bytes(icosphere_ply().as_bytes()).unwrap());
     let mut objects: Vec<Box<dyn Shape>> = Vec::new();
     for i in 0..5 {
@@ -89,6 +101,7 @@ fn placed_instances_match_a_moved_sphere() {
 /// draw the same picture (flat shading: both use each face's own normal).
 #[test]
 fn a_mesh_and_its_triangles_give_the_same_picture() {
+    let _watchdog = crate::watchdog::start();
     let (p, t) = icosphere(2);
     // Squash and tilt it so that no face is axis-aligned by accident.
     let p: Vec<DVec3> = p

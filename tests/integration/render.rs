@@ -10,6 +10,7 @@ render { width 64  height 64  max_depth 3  gamma linear }
 
 #[test]
 fn floor_under_a_sphere_is_in_shadow_and_elsewhere_lit() {
+    let _watchdog = crate::watchdog::start();
     // A lamp high above a sphere at x = 3 casts a round shadow of radius
     // about 1.04 centred on (3, 0, 0). The camera hangs above x = −3 looking
     // straight down (fov 90: ten units either side), so it sees that shadow
@@ -34,13 +35,26 @@ sphere { centre <3, 2, 0>  radius 1  material { colour rgb(1, 0, 0) } }
         (shadowed[1] - 0.1).abs() < 1e-4,
         "shadowed floor is grey: {shadowed:?}"
     );
-    // Straight below the camera the floor is lit almost head-on.
+    // Straight below the camera the floor is lit almost head-on: by
+    // conventions.md pixel (32, 32) fires through (a + 0.5)/32 − 1 =
+    // 1/64 of the half-width (tan 45° · 10 = 10 units) right (+x, since
+    // r = l × u' = (0,−1,0) × (0,0,−1)) and 1/64 down the image (−u' =
+    // +z): the floor point (−3 + 10/64, 0, 10/64). Lit at cos = n·l̂.
+    let p = glam::DVec3::new(-3.0 + 10.0 / 64.0, 0.0, 10.0 / 64.0);
+    let to_light = glam::DVec3::new(3.0, 50.0, 0.0) - p;
+    let want = 0.1 + to_light.normalize().y;
     let lit = film.get(32, 32);
-    assert!(lit[0] > 1.05 && lit[0] < 1.1, "lit floor: {lit:?}");
+    for (k, &c) in lit.iter().enumerate() {
+        assert!(
+            (c as f64 - want).abs() < 1e-5,
+            "lit floor channel {k}: {lit:?} vs {want}"
+        );
+    }
 }
 
 #[test]
 fn sphere_silhouette_matches_the_analytic_circle() {
+    let _watchdog = crate::watchdog::start();
     let film = render_src(&format!(
         "{HEADER}
 ambient rgb(1, 1, 1) intensity 1
@@ -71,6 +85,7 @@ sphere {{ radius 1  material {{ colour rgb(1, 1, 1) }} }}
 
 #[test]
 fn transformed_box_equals_the_box_placed_by_hand() {
+    let _watchdog = crate::watchdog::start();
     let by_transform = render_src(&format!(
         "{HEADER}
 ambient rgb(1, 1, 1) intensity 0.2
@@ -96,6 +111,7 @@ box {{ min <0.05, -0.3, -0.25>  max <0.55, 0.7, 0.25> }}
 
 #[test]
 fn mirror_shows_the_sphere_in_front_of_it() {
+    let _watchdog = crate::watchdog::start();
     // A mirror plane behind a red sphere, camera looking past the sphere at
     // the mirror: the red appears again, reflected, beside the real one.
     let film = render_src(
@@ -107,22 +123,51 @@ plane { normal <-1, 0, 1>  offset -2  material { colour rgb(0, 0, 1)  reflect 1 
 sphere { centre <-2, 0, 2>  radius 0.6  material { colour rgb(1, 0, 0) } }
 ",
     );
-    // Without the mirror nothing red would appear right of the centre.
-    let red_right = (40..64)
+    // The mirror image of the sphere's centre C = (−2, 0, 2) in the plane
+    // n̂·p = −2, n̂ = (−1, 0, 1)/√2 (the offset is a distance along the
+    // unit normal): C' = C − 2(n̂·C + 2)n̂ = (2 + 2√2, 0, −2 − 2√2).
+    // Projected through the camera (conventions.md: fov 60 horizontal,
+    // r = +x, u' = +y, pixel a at tan 30°·((a + 0.5)/32 − 1)), it lands at
+    // (col, row).
+    let n = glam::DVec3::new(-1.0, 0.0, 1.0).normalize();
+    let c = glam::DVec3::new(-2.0, 0.0, 2.0);
+    let image = c - 2.0 * (n.dot(c) + 2.0) * n;
+    let s = 2.0 + 2.0 * 2f64.sqrt();
+    assert!((image - glam::DVec3::new(s, 0.0, -s)).length() < 1e-12);
+    let d = image - glam::DVec3::new(0.0, 0.0, 6.0);
+    let half = 30f64.to_radians().tan();
+    let col = 32.0 * (1.0 + (d.x / -d.z) / half) - 0.5;
+    let row = 32.0 * (1.0 - (d.y / -d.z) / half) - 0.5;
+    // The red reflection, right of the real sphere (at column 32·(1 −
+    // 0.5/tan 30°) − 0.5 ≈ 4): its pixels' centroid is the projected image
+    // centre (a sphere's outline is symmetric about it to within a tenth
+    // of a pixel at this size).
+    let red: Vec<(f64, f64)> = (33..64)
         .flat_map(|a| (0..64).map(move |b| (a, b)))
         .filter(|&(a, b)| {
             let p = film.get(a, b);
             p[0] > 0.5 && p[2] < 0.1
         })
-        .count();
+        .map(|(a, b)| (a as f64, b as f64))
+        .collect();
     assert!(
-        red_right > 5,
-        "reflection of the sphere visible: {red_right}"
+        red.len() > 5,
+        "reflection of the sphere visible: {}",
+        red.len()
+    );
+    let n_red = red.len() as f64;
+    let (ca, cb) = red
+        .iter()
+        .fold((0.0, 0.0), |(x, y), &(a, b)| (x + a / n_red, y + b / n_red));
+    assert!(
+        (ca - col).abs() < 0.35 && (cb - row).abs() < 0.35,
+        "reflection centred at ({ca:.2}, {cb:.2}), the mirror says ({col:.2}, {row:.2})"
     );
 }
 
 #[test]
 fn image_is_identical_for_one_and_two_threads() {
+    let _watchdog = crate::watchdog::start();
     let (_dir, path) = scene_file(&format!(
         "{HEADER}
 ambient rgb(1, 1, 1) intensity 0.1
@@ -135,4 +180,35 @@ plane {{ normal <0, 1, 0>  offset -0.6  material {{ colour rgb(0.8, 0.8, 0.8)  r
     let one = render_path(&path, None, 1);
     let two = render_path(&path, None, 2);
     assert_eq!(one, two);
+}
+
+/// The recursion depth, exactly: between two facing mirrors lit only by
+/// ambient light every camera ray bounces until `max_depth`, so each pixel
+/// is (1 − R)·c·a·(1 + R + … + R^N) with N = max_depth (a reflection one
+/// bounce too deep or too shallow adds or drops the term R^N).
+#[test]
+fn facing_mirrors_add_exactly_max_depth_reflections() {
+    let _watchdog = crate::watchdog::start();
+    let (r, a, c) = (0.5f64, 0.5f64, [1.0f64, 0.5, 0.25]);
+    for n in 0..=4u32 {
+        let film = render_src(&format!(
+            "camera {{ position <0, 0, 0>  look_at <0, 0, -1>  up <0, 1, 0>  fov 60 }}
+render {{ width 5  height 5  max_depth {n}  gamma linear }}
+ambient rgb(1, 1, 1) intensity {a}
+plane {{ normal <0, 0, 1>  offset -1  material {{ colour rgb({}, {}, {})  reflect {r} }} }}
+plane {{ normal <0, 0, -1>  offset -1  material {{ colour rgb({}, {}, {})  reflect {r} }} }}",
+            c[0], c[1], c[2], c[0], c[1], c[2]
+        ));
+        let series: f64 = (0..=n).map(|k| r.powi(k as i32)).sum();
+        for (i, p) in film.pixels.iter().enumerate() {
+            for k in 0..3 {
+                let want = (1.0 - r) * c[k] * a * series;
+                assert!(
+                    (p[k] as f64 - want).abs() < 1e-5,
+                    "max_depth {n}, pixel {i}, channel {k}: {} vs {want}",
+                    p[k]
+                );
+            }
+        }
+    }
 }

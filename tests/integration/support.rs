@@ -52,3 +52,9 @@ pub fn max_difference(a: &Film, b: &Film) -> f32 {
 pub fn project_root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
+
+/// Whether `RAYTRACE_REGENERATE_FIXTURES=1` asks the fixture tests to
+/// rewrite the generated files under examples/ (never done unasked).
+pub fn regenerate_fixtures() -> bool {
+    std::env::var("RAYTRACE_REGENERATE_FIXTURES").is_ok_and(|v| v == "1")
+}

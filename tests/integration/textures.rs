@@ -29,15 +29,26 @@ pub fn globe_image() -> image::RgbImage {
 
 #[test]
 fn example_image_is_the_generated_one() {
+    let _watchdog = crate::watchdog::start();
     let path = project_root().join("examples/images/globe.png");
     let want = globe_image();
-    if !path.exists() {
+    // Written only on request: a fixture written when missing would then be
+    // compared with itself, and the test could not fail.
+    if regenerate_fixtures() {
         want.save(&path).expect("write examples/images/globe.png");
     }
-    let have = image::open(&path).expect("decode globe.png").to_rgb8();
+    let have = image::open(&path)
+        .unwrap_or_else(|e| {
+            panic!(
+                "examples/images/globe.png: {e}; run the tests with \
+                 RAYTRACE_REGENERATE_FIXTURES=1 to write it"
+            )
+        })
+        .to_rgb8();
     assert!(
         have == want,
-        "examples/images/globe.png differs from globe_image(); delete it to regenerate"
+        "examples/images/globe.png differs from globe_image(); rerun the tests with \
+         RAYTRACE_REGENERATE_FIXTURES=1 to rewrite it"
     );
 }
 
@@ -49,6 +60,7 @@ ambient white intensity 1
 
 #[test]
 fn checker_cells_fall_where_the_course_formula_puts_them() {
+    let _watchdog = crate::watchdog::start();
     // A plane y = 0 seen from above, fov 90: the image spans x, z ∈ [−10, 10].
     // Its canonical frame turned onto +y maps u = x and v = −z; with scale
     // 0.5 the cells are 2 units wide.
@@ -75,6 +87,7 @@ plane {{ normal <0, 1, 0>  material {{ colour checker {{ a rgb(1, 1, 1)  b rgb(0
 
 #[test]
 fn image_texture_shows_the_image_on_a_rectangle() {
+    let _watchdog = crate::watchdog::start();
     let dir = tempfile::tempdir().unwrap();
     let mut img = image::RgbImage::new(2, 2);
     img.put_pixel(0, 0, image::Rgb([255, 0, 0]));
@@ -107,6 +120,7 @@ rectangle { bottom_left <-1, -1, 0>  top_left <-1, 1, 0>  bottom_right <1, -1, 0
 
 #[test]
 fn solid_textures_move_with_their_object() {
+    let _watchdog = crate::watchdog::start();
     // A marble sphere at the origin, and the same sphere moved by
     // <5, 0, 0> with the camera and light moved alike: the same picture.
     let scene = |offset: f64| {
@@ -141,6 +155,7 @@ sphere {{ radius 1  material {{ colour marble {{ a white  b rgb(0.1, 0.1, 0.4)  
 
 #[test]
 fn a_missing_or_corrupt_image_is_a_diagnostic_at_its_name() {
+    let _watchdog = crate::watchdog::start();
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("bad.png"), b"\x89PNG\r\n\x1a\ngarbage").unwrap();
     for (file, words) in [("nope.png", "nope.png"), ("bad.png", "decode")] {

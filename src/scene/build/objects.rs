@@ -235,7 +235,8 @@ impl Builder<'_> {
                 if shapes.is_empty() {
                     Vec::new()
                 } else {
-                    vec![wrap(Box::new(Csg::new(CsgOp::Union, shapes)), total)]
+                    let csg = Csg::new(CsgOp::Union, shapes).texture_space(mat);
+                    vec![wrap(Box::new(csg), total)]
                 }
             }
             "group" => {
@@ -271,11 +272,13 @@ impl Builder<'_> {
                     Vec::new()
                 } else {
                     let shapes = self.children(&children, inner);
-                    vec![wrap(Box::new(Csg::new(op, shapes)), total)]
+                    // Its material's solid patterns live in the block's space.
+                    let csg = Csg::new(op, shapes).texture_space(mat);
+                    vec![wrap(Box::new(csg), total)]
                 }
             }
             _ => {
-                let shape = self.primitive(kind, kw, string, &mut p, mat);
+                let shape = self.primitive(kind, kw, string, &mut p, mat, ctx.csg.is_some());
                 let surface = self.light_surface.take();
                 if shape.is_some() {
                     self.area_light(kw, &mut p, surface, mat, &total, ctx.csg.is_some());
@@ -441,6 +444,7 @@ impl Builder<'_> {
         string: Option<&Item>,
         p: &mut params::Params,
         mat: MaterialId,
+        in_csg: bool,
     ) -> Option<Box<dyn Shape>> {
         Some(match kind {
             "sphere" => {
@@ -585,7 +589,7 @@ impl Builder<'_> {
                 let minor = self.positive_or(p, "minor", None, kw);
                 Box::new(Torus::new(major?, minor?, mat))
             }
-            "implicit" => return self.implicit(string?, p, mat),
+            "implicit" => return self.implicit(string?, p, mat, in_csg),
             "mesh" => return self.mesh(string?, p, mat),
             _ => unreachable!("is_object lists every kind"),
         })
@@ -596,6 +600,7 @@ impl Builder<'_> {
         string: &Item,
         p: &mut params::Params,
         mat: MaterialId,
+        in_csg: bool,
     ) -> Option<Box<dyn Shape>> {
         let Item::Str {
             text,
@@ -631,7 +636,11 @@ impl Builder<'_> {
         });
         match compiled {
             Ok(eq) => {
-                let surface = ImplicitSurface::new(eq, bounds, mat);
+                let mut surface = ImplicitSurface::new(eq, bounds, mat);
+                if in_csg {
+                    // A solid: where `bounded_by` cuts it, the box is its face.
+                    surface = surface.solid_in_box();
+                }
                 if let Some(note) = surface.bound_note() {
                     self.warn(*content, note);
                 }
