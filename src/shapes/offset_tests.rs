@@ -157,6 +157,7 @@ impl Shape for ShapeRef {
 
 #[test]
 fn secondary_rays_never_rehit_the_surface_they_leave() {
+    let _watchdog = crate::watchdog::start();
     let kinds: &'static [(&'static str, Box<dyn Shape>)] = Vec::leak(kinds());
     let mut report = Vec::new();
     for (name, shape) in kinds {

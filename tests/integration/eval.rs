@@ -60,6 +60,7 @@ const STAGE: &str = "camera { position <0, 4, 12>  look_at <0, 1, 0> }\n\
 
 #[test]
 fn a_loop_renders_byte_identical_to_the_scene_written_out() {
+    let _watchdog = crate::watchdog::start();
     let looped = format!(
         "{STAGE}for i in 0..4 {{ sphere {{ radius 0.4  centre <i * 1.5 - 2, 0.5, 0> }} }}\n\
          for i in 0..=2 step 2 {{ box {{ min <-0.3, 0, -0.3>  max <0.3, 0.6, 0.3>  translate <i, 0, 2> }} }}"
@@ -81,6 +82,7 @@ fn a_loop_renders_byte_identical_to_the_scene_written_out() {
 
 #[test]
 fn a_function_with_defaults_equals_the_call_spelled_out() {
+    let _watchdog = crate::watchdog::start();
     let f = "fn post(h, r = 0.25, top = 1.3) {\n\
              cylinder { radius r  height h  translate <0, h / 2, 0> }\n\
              sphere { radius r * top  centre <0, h, 0> }\n}\n";
@@ -96,6 +98,7 @@ fn a_function_with_defaults_equals_the_call_spelled_out() {
 
 #[test]
 fn built_ins_give_the_textbook_values() {
+    let _watchdog = crate::watchdog::start();
     let s = build(
         "let v = normalize(<3, 0, 4>)\n\
          let c = cross(<1, 0, 0>, <0, 1, 0>)\n\
@@ -117,6 +120,7 @@ fn built_ins_give_the_textbook_values() {
 
 #[test]
 fn random_is_pure_and_in_the_unit_interval() {
+    let _watchdog = crate::watchdog::start();
     use raytrace::eval::expr::random;
     let a: Vec<f64> = (0..1000).map(|i| random(7.0, i as f64)).collect();
     let b: Vec<f64> = (0..1000).map(|i| random(7.0, i as f64)).collect();
@@ -132,6 +136,7 @@ fn random_is_pure_and_in_the_unit_interval() {
 
 #[test]
 fn conditions_choose_and_ranges_count_right() {
+    let _watchdog = crate::watchdog::start();
     let s = build(
         "for i in 0..10 { if i % 3 == 0 and not (i == 6) { sphere { centre <i, 0, 0> } } \
          else if i == 7 or i > 8 { sphere { centre <i, 5, 0> } } }",
@@ -162,6 +167,7 @@ fn conditions_choose_and_ranges_count_right() {
 
 #[test]
 fn an_object_value_is_placed_with_its_own_transforms_and_material() {
+    let _watchdog = crate::watchdog::start();
     let s = build(
         "material gold { colour gold }\n\
          let ball = sphere { radius 0.5 }\n\
@@ -192,6 +198,7 @@ fn an_object_value_is_placed_with_its_own_transforms_and_material() {
 
 #[test]
 fn materials_and_patterns_are_values_too() {
+    let _watchdog = crate::watchdog::start();
     let s = build(
         "let shiny = material { colour red  reflect 0.5 }\n\
          let tiles = checker { a white  b black }\n\
@@ -208,6 +215,7 @@ fn materials_and_patterns_are_values_too() {
 
 #[test]
 fn recursion_builds_and_stops_at_its_base_case() {
+    let _watchdog = crate::watchdog::start();
     let s = build(
         "fn tower(n) {\n\
            sphere { radius 0.3  centre <0, n, 0> }\n\
@@ -222,6 +230,7 @@ fn recursion_builds_and_stops_at_its_base_case() {
 
 #[test]
 fn minus_d_changes_exactly_the_named_constant() {
+    let _watchdog = crate::watchdog::start();
     let src = "let R = 1\nlet S = 2\nsphere { radius R }\nsphere { radius S  centre <5, 0, 0> }";
     let plain = build_with(src, &Options::default()).unwrap();
     let options = Options {
@@ -244,6 +253,7 @@ fn minus_d_changes_exactly_the_named_constant() {
 
 #[test]
 fn clock_and_frame_are_read_only_numbers() {
+    let _watchdog = crate::watchdog::start();
     let s = build("sphere { radius 1 + clock + frame }");
     assert!((s.objects[0].bounds().max.x - 1.0).abs() < 1e-12);
     let options = Options {
@@ -258,6 +268,7 @@ fn clock_and_frame_are_read_only_numbers() {
 
 #[test]
 fn errors_in_a_loop_or_call_say_which() {
+    let _watchdog = crate::watchdog::start();
     let e = problems("for i in 0..10 {\n  sphere { radius 3 - i }\n}");
     assert_eq!(e.len(), 1, "one report, not one per iteration: {e:?}");
     assert_eq!(e[0].0, "this must be greater than 0");
@@ -283,6 +294,7 @@ fn errors_in_a_loop_or_call_say_which() {
 
 #[test]
 fn kind_errors_and_suggestions() {
+    let _watchdog = crate::watchdog::start();
     assert_eq!(
         messages("let xs = [1, 2]\nsphere { radius xs[2] }"),
         ["index 2 is out of range"]
@@ -319,6 +331,7 @@ fn kind_errors_and_suggestions() {
 
 #[test]
 fn runaway_programs_are_refused_with_the_limit_named() {
+    let _watchdog = crate::watchdog::start();
     let e = problems("for i in 0..100000000 { }");
     assert!(e[0].0.contains("the limit is 1000000"), "{e:?}");
     assert!(e[0].1.as_deref().unwrap().contains("--max-iterations"));
@@ -351,6 +364,7 @@ fn runaway_programs_are_refused_with_the_limit_named() {
 
 #[test]
 fn block_scoping_keeps_loop_lets_local() {
+    let _watchdog = crate::watchdog::start();
     let s =
         build("let r = 1\nfor i in 0..2 { let r = 2  sphere { radius r } }\nsphere { radius r }");
     let radii: Vec<f64> = s
@@ -367,6 +381,7 @@ fn block_scoping_keeps_loop_lets_local() {
 
 #[test]
 fn implicit_equations_see_loop_variables_and_parameters() {
+    let _watchdog = crate::watchdog::start();
     let s = build(
         "fn ball(R) { implicit \"x^2 + y^2 + z^2 - R^2\" { bounded_by <-3, -3, -3> <3, 3, 3> } }\n\
          ball(2)",
@@ -380,6 +395,7 @@ fn implicit_equations_see_loop_variables_and_parameters() {
 
 #[test]
 fn placements_share_one_built_object_and_render_as_copies_would() {
+    let _watchdog = crate::watchdog::start();
     let shared = format!(
         "{STAGE}let ball = sphere {{ radius 0.5 }}\n\
          for i in 0..3 {{ ball {{ translate <i - 1, 0.5, 0> }} }}"

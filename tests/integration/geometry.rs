@@ -89,6 +89,7 @@ fn assert_same_as_unit(s: f64, t: [f64; 3], unit: &Film) {
 
 #[test]
 fn a_scene_scaled_and_moved_far_away_renders_as_at_unit_scale() {
+    let _watchdog = crate::watchdog::start();
     let unit = render(&showroom(1.0, [0.0; 3]));
     for (s, t) in [
         (1e-6, [0.0; 3]),
@@ -118,6 +119,7 @@ proptest! {
 /// meet the mesh from inside (the shading normal alone used to decide).
 #[test]
 fn a_mirror_smooth_mesh_in_a_white_world_is_white() {
+    let _watchdog = crate::watchdog::start();
     for level in [1, 3] {
         let film = render(&format!(
             r#"
@@ -143,6 +145,7 @@ mesh "ico{level}.ply" {{ smooth  material {{ colour rgb(0, 0, 0)  reflect 1 }} }
 /// facet-shaped terminator (77 such pixels at 200×200 with 1,280 faces).
 #[test]
 fn the_terminator_of_a_smooth_sphere_mesh_follows_the_sphere() {
+    let _watchdog = crate::watchdog::start();
     let scene = |object: &str| {
         format!(
             r#"

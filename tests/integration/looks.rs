@@ -26,6 +26,7 @@ plane {{ normal <0, 1, 0>  material {{ colour rgb(1, 1, 1) }} }}
 
 #[test]
 fn light_through_a_glass_slab_falls_as_filter_to_the_thickness() {
+    let _watchdog = crate::watchdog::start();
     let open = px(&floor_under(""), 8, 8);
     assert!(open[0] > 0.99, "lit head-on: {open:?}");
     let f: [f64; 3] = [0.5, 0.25, 1.0];
@@ -56,6 +57,7 @@ fn light_through_a_glass_slab_falls_as_filter_to_the_thickness() {
 
 #[test]
 fn white_furnace_a_white_object_in_a_uniform_sky_shows_the_sky() {
+    let _watchdog = crate::watchdog::start();
     let film = render_src(
         "
 camera { position <0, 0, 4>  look_at <0, 0, 0>  fov 40 }
@@ -95,6 +97,7 @@ fn edge_width(f: &Film, y: u32, bright: f32) -> u32 {
 
 #[test]
 fn thin_lens_keeps_the_focus_plane_sharp_and_blurs_by_the_circle_of_confusion() {
+    let _watchdog = crate::watchdog::start();
     // Glowing plates left of x = 0: one at the focus distance 5 (top half
     // of the picture), one at 10 (bottom half). Lens radius 0.2.
     let film = render_src(
@@ -122,6 +125,7 @@ rectangle { bottom_left <-20, -6, -10>  top_left <-20, -0.1, -10>  bottom_right 
 
 #[test]
 fn penumbra_of_a_disc_light_has_the_analytic_width() {
+    let _watchdog = crate::watchdog::start();
     // A disc light of radius 1 at height 10 facing down, an opaque half
     // plane (x < 0) at height 5: on the floor the penumbra spans
     // 2R·h/(H − h) = 2 units, centred on x = 0. The camera, below the
@@ -166,6 +170,7 @@ plane {{ normal <0, 1, 0>  material {{ colour rgb(1, 1, 1) }} }}
 
 #[test]
 fn a_small_far_area_light_gives_the_inverse_square_irradiance() {
+    let _watchdog = crate::watchdog::start();
     // A disc of radius 0.05 and radiance 1000 straight above the floor
     // point the camera sees: E = L·A/r² (the camera is off to the side
     // at height 0.5 so it does not block the light).
@@ -193,6 +198,7 @@ plane {{ normal <0, 1, 0>  material {{ colour rgb(1, 1, 1) }} }}
 
 #[test]
 fn one_and_two_threads_give_identical_pictures_with_every_random_part() {
+    let _watchdog = crate::watchdog::start();
     let (_d, path) = scene_file(
         "
 camera { position <0, 2, 6>  look_at <0, 0.5, 0>  fov 50  aperture 0.1  focus 6 }
@@ -220,6 +226,7 @@ plane { normal <0, 1, 0>  material { colour rgb(0.9, 0.9, 0.9) } }
 
 #[test]
 fn parallel_and_spot_lights_light_what_they_should() {
+    let _watchdog = crate::watchdog::start();
     let floor = |light: &str| {
         render_src(&format!(
             "
@@ -250,6 +257,7 @@ plane {{ normal <0, 1, 0>  material {{ colour rgb(1, 1, 1) }} }}
 
 #[test]
 fn emission_is_seen_on_the_front_side_only() {
+    let _watchdog = crate::watchdog::start();
     let film = render_src(
         "
 camera { position <0, 0, 4>  look_at <0, 0, 0>  fov 30 }
@@ -270,6 +278,7 @@ disc { radius 3  material { emit rgb(0.25, 0.5, 1)  intensity 2 } }
 
 #[test]
 fn phong_and_mirror_add_to_the_matte_part() {
+    let _watchdog = crate::watchdog::start();
     let base = "
 camera { position <0, 0, 4>  look_at <0, 0, 0>  fov 20 }
 render { width 9  height 9  gamma linear  background rgb(0.5, 0.5, 0.5) }
@@ -294,6 +303,7 @@ light { position <0, 0, 4> }
 
 #[test]
 fn ambient_occlusion_darkens_corners_and_min_1_changes_nothing() {
+    let _watchdog = crate::watchdog::start();
     let scene = |occ: &str| {
         render_src(&format!(
             "
@@ -322,6 +332,7 @@ box {{ min <-1, 0, -1>  max <1, 1, 1>  material {{ colour rgb(1, 1, 1) }} }}
 
 #[test]
 fn mistakes_in_the_new_parameters_are_diagnosed() {
+    let _watchdog = crate::watchdog::start();
     let err = |src: &str| {
         let (_d, path) = scene_file(src);
         let program = raytrace::lang::load(&path).unwrap();
@@ -351,6 +362,7 @@ fn mistakes_in_the_new_parameters_are_diagnosed() {
 
 #[test]
 fn an_hdr_sky_lights_the_scene_and_is_seen_where_rays_escape() {
+    let _watchdog = crate::watchdog::start();
     // A 4 × 2 EXR sky: radiance 3 in its top row (the upper hemisphere),
     // 0.5 in its bottom row. Above 1, as HDR allows.
     let dir = tempfile::tempdir().unwrap();
@@ -406,6 +418,7 @@ plane { normal <0, 1, 0>  material { colour rgb(1, 1, 1) } }
 
 #[test]
 fn an_emissive_object_value_lights_the_scene_wherever_it_is_placed() {
+    let _watchdog = crate::watchdog::start();
     // One lamp value placed twice: the floor under each placement is lit
     // by it (inverse-square), the floor between them less.
     let film = render_src(
