@@ -332,6 +332,13 @@ impl KdTree {
         // axis; by the sign bit, so that -0 goes with the negatives, as its
         // reciprocal -inf does.
         let toward_below = ray.dir.to_array().map(|d| !d.is_sign_negative());
+        // A plane crossed within rounding of a segment's end is taken as
+        // crossed inside it: both sides are visited. Without this a ray
+        // aimed exactly at a vertex or edge lying on a split plane could be
+        // sent to one side only and miss a flat mesh there (the plane's `t`
+        // and the surface's `t` round differently). One slack per ray,
+        // relative to the farthest `t` in the tree's box.
+        let slack = SLACK * lo.abs().max(hi.abs());
         let nodes = self.nodes.as_slice();
         // Not zeroed per ray: every slot is written before it is read.
         let mut stack = [std::mem::MaybeUninit::<(u32, f64, f64)>::uninit(); STACK];
@@ -360,9 +367,9 @@ impl KdTree {
                 } else {
                     (above, below)
                 };
-                if tp > hi {
+                if tp > hi + slack {
                     node = first;
-                } else if tp < lo {
+                } else if tp < lo - slack {
                     node = second;
                 } else {
                     // `max` and `min` drop a NaN `tp`: both sides then get
@@ -400,6 +407,9 @@ impl KdTree {
         }
     }
 }
+
+/// See the walk: relative slack on a split plane's crossing.
+const SLACK: f64 = 1e-9;
 
 impl Builder<'_> {
     fn leaf(&mut self, items: &[Item], depth: usize) {
