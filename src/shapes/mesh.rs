@@ -1148,7 +1148,7 @@ mod tests {
     /// A flat grid of triangles seen by rays through its vertices and the
     /// middles of its edges: the triangle test lets none through
     /// (Möller-Trumbore with inclusive bounds let 123 of 37,636 such pixels
-    /// through). The kd-tree's walk is tested by the next test.
+    /// through). The kd-tree's walk: `a_grid_has_no_cracks_through_its_kd_tree`.
     #[test]
     fn a_grid_has_no_cracks_at_its_vertices_and_edges() {
         let n = 40;
