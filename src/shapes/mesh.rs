@@ -510,10 +510,18 @@ fn is_closed(triangles: &[[u32; 3]]) -> bool {
 
 /// A closed mesh's crossings for CSG, which must alternate entering and
 /// leaving. Each triangle's winding tells the way (its geometric normal;
-/// a smooth normal can disagree near a silhouette), a mesh wound inwards
-/// is recognised by its first crossing (a closed surface is entered
-/// first), and a triangle that would not change the side (the second of
-/// two sharing the edge or vertex the ray passes through) is skipped.
+/// a smooth normal can disagree near a silhouette), and a mesh wound
+/// inwards is recognised by its first clear crossing (a closed surface is
+/// entered first). Triangles met at one point (the two sharing an edge,
+/// the fan around a vertex: the watertight test reports each of them) are
+/// taken as one group:
+/// - all facing one way: one crossing, skipped if it would not change the
+///   side;
+/// - facing both ways (a line touching a vertex or an edge, or crossing a
+///   saddle vertex): the side after the point is read from the next clear
+///   group (outside when none follows), and the group is one crossing or
+///   none.
+///
 /// Reported normals are turned to agree.
 fn solid_crossings(
     d: &MeshData,
@@ -522,26 +530,69 @@ fn solid_crossings(
     hit: impl Fn(f64, u32, f64, f64) -> Hit,
     out: &mut Vec<Hit>,
 ) {
-    let mut inward = None;
+    let facing = |k: usize| d.pre[found[k].1 as usize].normal().dot(ray.dir);
+    // Groups of crossings at one point: (first index, end, the sign of
+    // their facing if all agree, else 0).
+    let mut groups: Vec<(usize, usize, f64)> = Vec::new();
+    let mut i = 0;
+    while i < found.len() {
+        let t0 = found[i].0;
+        let tol = POINT_TOLERANCE * t0.abs();
+        let (mut pos, mut neg) = (false, false);
+        let mut j = i;
+        while j < found.len() && found[j].0 - t0 <= tol {
+            let f = facing(j);
+            pos |= f > 0.0;
+            neg |= f < 0.0;
+            j += 1;
+        }
+        if pos || neg {
+            let sign = match (pos, neg) {
+                (true, false) => 1.0,
+                (false, true) => -1.0,
+                _ => 0.0,
+            };
+            groups.push((i, j, sign));
+        }
+        i = j;
+    }
+    // A clear group's facing that means entering: the first clear group
+    // along the line is entered.
+    let Some(first) = groups.iter().find(|g| g.2 != 0.0) else {
+        return;
+    };
+    let enter_sign = first.2;
     let mut inside = false;
-    for &(t, tri, b1, b2) in found {
-        let pre = &d.pre[tri as usize];
-        let facing = pre.normal().dot(ray.dir);
-        if facing == 0.0 {
+    for (g, &(a, b, sign)) in groups.iter().enumerate() {
+        let now_inside = if sign != 0.0 {
+            sign == enter_sign
+        } else {
+            // Inside after this point if the next clear group leaves.
+            groups[g + 1..]
+                .iter()
+                .find(|n| n.2 != 0.0)
+                .is_some_and(|n| n.2 != enter_sign)
+        };
+        if now_inside == inside {
             continue;
         }
-        let entering = (facing < 0.0) != *inward.get_or_insert(facing > 0.0);
-        if entering == inside {
-            continue;
-        }
-        inside = entering;
+        inside = now_inside;
+        // The group's triangle that faces the way of the crossing.
+        let k = (a..b)
+            .find(|&k| (facing(k) * enter_sign > 0.0) == inside)
+            .unwrap_or(a);
+        let (t, tri, b1, b2) = found[k];
         let mut h = hit(t, tri, b1, b2);
-        if (h.geo_normal.dot(ray.dir) < 0.0) != entering {
+        if (h.geo_normal.dot(ray.dir) < 0.0) != inside {
             h = h.flipped();
         }
         out.push(h);
     }
 }
+
+/// Crossings of one mesh closer than this (relative to `t`) are one point:
+/// the triangles around a vertex give its `t` a few ulps apart.
+const POINT_TOLERANCE: f64 = 1e-12;
 
 #[derive(Debug)]
 pub struct Mesh {
@@ -1053,11 +1104,70 @@ mod tests {
                     .is_some_and(|(a, b)| (a - b).abs() <= 1e-12 * b.abs()),
                 "mesh {a:?} and triangles {b:?} disagree at {p:?}"
             );
-            // Through an edge the crossings alternate; through a vertex the
-            // fan's count is not yet settled (see docs/architecture.md).
-            if k >= d.vertex_count() {
-                testing::check_alternation(&mesh, &[ray]);
+            // Through an edge or a vertex the crossings alternate: the
+            // fan around a vertex counts once, or not at all for a touch.
+            testing::check_alternation(&mesh, &[ray]);
+        }
+    }
+
+    /// Lines that touch a convex mesh at one vertex only (in the plane
+    /// through it square to its radius, which supports an icosphere) meet
+    /// triangles facing both ways there: the fan is a touch, and the
+    /// crossings stay even and alternating, so CSG keeps its inside.
+    #[test]
+    fn lines_touching_a_vertex_keep_the_crossings_alternating() {
+        let _watchdog = crate::watchdog::start();
+        let d = sphere_mesh(2);
+        let mesh = Mesh::new(d.clone(), false, 0);
+        let centre = d.bounds().centre();
+        let mut rays = Vec::new();
+        for &v in &d.positions {
+            let out = (v - centre).normalize();
+            let a = out.any_orthonormal_vector();
+            let b = out.cross(a);
+            for k in 0..8 {
+                let phi = k as f64 * std::f64::consts::TAU / 8.0 + 0.1;
+                let dir = a * phi.cos() + b * phi.sin();
+                rays.push(Ray::new(v - 3.0 * dir, dir));
             }
+        }
+        testing::check_alternation(&mesh, &rays);
+        // And a cube's corner, met by a line that only grazes it.
+        let pos: Vec<DVec3> = (0..8)
+            .map(|i| {
+                DVec3::new(
+                    (i & 1) as f64 * 2.0 - 1.0,
+                    ((i >> 1) & 1) as f64 * 2.0 - 1.0,
+                    ((i >> 2) & 1) as f64 * 2.0 - 1.0,
+                )
+            })
+            .collect();
+        let faces = [
+            [0, 2, 3, 1],
+            [4, 5, 7, 6],
+            [0, 1, 5, 4],
+            [2, 6, 7, 3],
+            [0, 4, 6, 2],
+            [1, 3, 7, 5],
+        ];
+        let tris = faces
+            .iter()
+            .flat_map(|f| [[f[0], f[1], f[2]], [f[0], f[2], f[3]]])
+            .collect();
+        let cube = Mesh::new(
+            Arc::new(MeshData::from_parts(pos, None, None, tris)),
+            false,
+            0,
+        );
+        let corner = DVec3::splat(1.0);
+        for dir in [
+            DVec3::new(-1.0, -1.0, 1.0),
+            DVec3::new(-1.0, 1.0, -1.0),
+            DVec3::new(1.0, -1.0, -1.0),
+        ] {
+            let dir = dir.normalize();
+            let ray = Ray::new(corner - 3.0 * dir, dir);
+            testing::check_alternation(&cube, &[ray]);
         }
     }
 
