@@ -1059,6 +1059,62 @@ mod tests {
     /// mesh and `triangle` shapes made of the same corners must agree, and
     /// the crossings of the line must alternate (a lost or doubled crossing
     /// would flip a CSG ray's inside and outside).
+    /// A closed box of twelve triangles, wound outwards: corner `min`,
+    /// sides `size`.
+    fn box_mesh(min: DVec3, size: DVec3) -> Arc<MeshData> {
+        let pos: Vec<DVec3> = (0..8)
+            .map(|i| {
+                min + DVec3::new(
+                    (i & 1) as f64 * size.x,
+                    ((i >> 1) & 1) as f64 * size.y,
+                    ((i >> 2) & 1) as f64 * size.z,
+                )
+            })
+            .collect();
+        let faces = [
+            [0, 2, 3, 1],
+            [4, 5, 7, 6],
+            [0, 1, 5, 4],
+            [2, 6, 7, 3],
+            [0, 4, 6, 2],
+            [1, 3, 7, 5],
+        ];
+        let tris = faces
+            .iter()
+            .flat_map(|f| [[f[0], f[1], f[2]], [f[0], f[2], f[3]]])
+            .collect();
+        Arc::new(MeshData::from_parts(pos, None, None, tris))
+    }
+
+    /// Squares per side of [`flat_grid`].
+    const GRID: u32 = 40;
+
+    /// A flat 40 × 40 grid of squares of side 0.1 in z = 0, centred on the
+    /// origin, each cut along a diagonal: its vertices and the mesh.
+    fn flat_grid() -> (Vec<DVec3>, Mesh) {
+        let n = GRID;
+        let mut pos = Vec::new();
+        for j in 0..=n {
+            for i in 0..=n {
+                pos.push(DVec3::new(i as f64 * 0.1 - 2.0, j as f64 * 0.1 - 2.0, 0.0));
+            }
+        }
+        let at = |i: u32, j: u32| j * (n + 1) + i;
+        let mut tris = Vec::new();
+        for j in 0..n {
+            for i in 0..n {
+                tris.push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
+                tris.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
+            }
+        }
+        let mesh = Mesh::new(
+            Arc::new(MeshData::from_parts(pos.clone(), None, None, tris)),
+            false,
+            0,
+        );
+        (pos, mesh)
+    }
+
     fn check_watertight(d: Arc<MeshData>, seed: u64) {
         let mesh = Mesh::new(d.clone(), false, 0);
         let tris: Vec<crate::shapes::Triangle> = (0..d.triangle_count())
@@ -1133,32 +1189,7 @@ mod tests {
         }
         testing::check_alternation(&mesh, &rays);
         // And a cube's corner, met by a line that only grazes it.
-        let pos: Vec<DVec3> = (0..8)
-            .map(|i| {
-                DVec3::new(
-                    (i & 1) as f64 * 2.0 - 1.0,
-                    ((i >> 1) & 1) as f64 * 2.0 - 1.0,
-                    ((i >> 2) & 1) as f64 * 2.0 - 1.0,
-                )
-            })
-            .collect();
-        let faces = [
-            [0, 2, 3, 1],
-            [4, 5, 7, 6],
-            [0, 1, 5, 4],
-            [2, 6, 7, 3],
-            [0, 4, 6, 2],
-            [1, 3, 7, 5],
-        ];
-        let tris = faces
-            .iter()
-            .flat_map(|f| [[f[0], f[1], f[2]], [f[0], f[2], f[3]]])
-            .collect();
-        let cube = Mesh::new(
-            Arc::new(MeshData::from_parts(pos, None, None, tris)),
-            false,
-            0,
-        );
+        let cube = Mesh::new(box_mesh(DVec3::splat(-1.0), DVec3::splat(2.0)), false, 0);
         let corner = DVec3::splat(1.0);
         for dir in [
             DVec3::new(-1.0, -1.0, 1.0),
@@ -1175,29 +1206,7 @@ mod tests {
     fn rays_at_vertices_and_edges_of_closed_meshes_always_hit() {
         check_watertight(sphere_mesh(2), 5);
         // A box made of twelve triangles, off-centre and far from unit size.
-        let c = DVec3::new(1e3, -2e3, 5e2);
-        let pos: Vec<DVec3> = (0..8)
-            .map(|i| {
-                c + DVec3::new(
-                    (i & 1) as f64 * 3.7,
-                    ((i >> 1) & 1) as f64 * 1.3,
-                    ((i >> 2) & 1) as f64 * 2.1,
-                )
-            })
-            .collect();
-        let faces = [
-            [0, 2, 3, 1],
-            [4, 5, 7, 6],
-            [0, 1, 5, 4],
-            [2, 6, 7, 3],
-            [0, 4, 6, 2],
-            [1, 3, 7, 5],
-        ];
-        let tris = faces
-            .iter()
-            .flat_map(|f| [[f[0], f[1], f[2]], [f[0], f[2], f[3]]])
-            .collect();
-        let boxed = Arc::new(MeshData::from_parts(pos, None, None, tris));
+        let boxed = box_mesh(DVec3::new(1e3, -2e3, 5e2), DVec3::new(3.7, 1.3, 2.1));
         assert!(boxed.is_closed());
         check_watertight(boxed, 9);
     }
@@ -1209,26 +1218,7 @@ mod tests {
     #[test]
     fn a_grid_has_no_cracks_through_its_kd_tree() {
         let _watchdog = crate::watchdog::start();
-        let n = 40;
-        let mut pos = Vec::new();
-        for j in 0..=n {
-            for i in 0..=n {
-                pos.push(DVec3::new(i as f64 * 0.1 - 2.0, j as f64 * 0.1 - 2.0, 0.0));
-            }
-        }
-        let at = |i: u32, j: u32| j * (n + 1) + i;
-        let mut tris = Vec::new();
-        for j in 0..n {
-            for i in 0..n {
-                tris.push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
-                tris.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
-            }
-        }
-        let mesh = Mesh::new(
-            Arc::new(MeshData::from_parts(pos.clone(), None, None, tris)),
-            false,
-            0,
-        );
+        let (pos, mesh) = flat_grid();
         let (mut missed, mut unblocked, mut rays) = (0, 0, 0);
         for eye in [
             DVec3::new(0.3, -0.2, 5.0),
@@ -1261,26 +1251,8 @@ mod tests {
     /// through). The kd-tree's walk: `a_grid_has_no_cracks_through_its_kd_tree`.
     #[test]
     fn a_grid_has_no_cracks_at_its_vertices_and_edges() {
-        let n = 40;
-        let mut pos = Vec::new();
-        for j in 0..=n {
-            for i in 0..=n {
-                pos.push(DVec3::new(i as f64 * 0.1 - 2.0, j as f64 * 0.1 - 2.0, 0.0));
-            }
-        }
-        let at = |i: u32, j: u32| j * (n + 1) + i;
-        let mut tris = Vec::new();
-        for j in 0..n {
-            for i in 0..n {
-                tris.push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
-                tris.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
-            }
-        }
-        let mesh = Mesh::new(
-            Arc::new(MeshData::from_parts(pos.clone(), None, None, tris)),
-            false,
-            0,
-        );
+        let (pos, mesh) = flat_grid();
+        let n = GRID;
         let eye = DVec3::new(0.3, -0.2, 5.0);
         let mut missed = 0;
         for &p in &pos {
