@@ -1,4 +1,5 @@
-//! Triangle meshes from PLY files, indexed by their own kd-tree.
+//! Triangle meshes from files (read by `formats`), indexed by their own
+//! kd-tree.
 //!
 //! ```text
 //! mesh "bunny.ply" { smooth  scale 20  material { colour rgb(0.8, 0.8, 0.8) } }
@@ -19,33 +20,14 @@
 //! A mesh is a solid (usable in CSG) when it is closed: every edge is shared
 //! by exactly two triangles.
 
-use super::ply;
 use super::{Hit, Shape, ShearedRay, barycentric_point};
 use crate::accel::{BuildParams, KdTree};
+use crate::formats::{self, MeshFileError, TriangleSoup};
 use crate::geometry::rounding::gamma;
 use crate::geometry::{Aabb, DVec2, DVec3, Ray};
 use crate::scene::MaterialId;
 use std::path::Path;
 use std::sync::Arc;
-
-/// A PLY file that could not be read; `line` or `element` where known.
-/// The message does not name the file: the caller knows it and the span of
-/// the statement that asked for it.
-#[derive(Clone, Debug, PartialEq, thiserror::Error)]
-#[error("{message}{}", where_(line, element))]
-pub struct PlyError {
-    pub message: String,
-    pub line: Option<usize>,
-    pub element: Option<String>,
-}
-
-fn where_(line: &Option<usize>, element: &Option<String>) -> String {
-    match (line, element) {
-        (Some(l), _) => format!(" (line {l})"),
-        (None, Some(e)) => format!(" (element {e})"),
-        (None, None) => String::new(),
-    }
-}
 
 /// A triangle's corners, copied out of the index so the test reads them
 /// from one place.
@@ -113,29 +95,20 @@ pub struct MeshData {
     closed: std::sync::OnceLock<bool>,
 }
 
-/// Largest PLY file read: 2 GiB holds some 60 million triangles.
-pub const MAX_PLY_BYTES: u64 = 2 << 30;
-
 impl MeshData {
-    pub fn load(path: &Path) -> Result<MeshData, PlyError> {
-        let bytes =
-            crate::lang::source::read_bounded(path, MAX_PLY_BYTES).map_err(|e| PlyError {
-                message: format!("cannot read the file: {e}"),
-                line: None,
-                element: None,
-            })?;
-        Self::from_bytes(&bytes)
+    /// The mesh in a file (see [`formats::read_mesh`]).
+    pub fn load(path: &Path) -> Result<MeshData, MeshFileError> {
+        Ok(Self::from_soup(formats::read_mesh(path)?))
     }
 
     /// The mesh in a PLY file's bytes.
-    pub fn from_bytes(bytes: &[u8]) -> Result<MeshData, PlyError> {
-        let ply = ply::parse(bytes)?;
-        Ok(Self::from_parts(
-            ply.positions,
-            ply.normals,
-            ply.uvs,
-            ply.triangles,
-        ))
+    pub fn from_bytes(bytes: &[u8]) -> Result<MeshData, MeshFileError> {
+        Ok(Self::from_soup(formats::ply::parse(bytes)?))
+    }
+
+    /// The mesh of what a reader produced.
+    pub fn from_soup(soup: TriangleSoup) -> MeshData {
+        Self::from_parts(soup.positions, soup.normals, soup.uvs, soup.triangles)
     }
 
     /// Builds from arrays already checked (indices in range, finite
@@ -699,7 +672,7 @@ impl Shape for Mesh {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::shapes::ply::icosphere;
+    use crate::formats::ply::icosphere;
     use crate::shapes::testing;
     use proptest::prelude::*;
 

@@ -13,7 +13,6 @@ mod cylinder;
 mod disc;
 pub mod mesh;
 mod plane;
-pub mod ply;
 mod rectangle;
 mod shared;
 mod sphere;

@@ -12,7 +12,7 @@ use std::sync::Arc;
 /// Every shape kind, unit-sized around the origin, with its name.
 fn kinds() -> Vec<(&'static str, Box<dyn Shape>)> {
     let compile = |s: &str| Equation::compile(s, &|_| None).expect("compiles");
-    let (p, t) = ply::icosphere(1);
+    let (p, t) = crate::formats::ply::icosphere(1);
     let ico = Arc::new(MeshData::from_parts(p, None, None, t));
     let cube = |lo: f64, hi: f64| Cuboid::new(DVec3::splat(lo), DVec3::splat(hi), [0; 6]);
     vec![

@@ -4,10 +4,10 @@
 
 use super::support::render_path;
 use proptest::prelude::*;
+use raytrace::formats::ply::{icosphere, write_ascii};
 use raytrace::output::to_rgb8;
 use raytrace::render::Film;
 use raytrace::scene::Transfer;
-use raytrace::shapes::ply::{icosphere, write_ascii};
 use std::path::PathBuf;
 
 /// A directory holding `scene.rt` and the icosphere meshes it may name.

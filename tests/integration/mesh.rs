@@ -2,8 +2,8 @@
 //! files on disk, and instancing through `Transformed`.
 
 use raytrace::accel::World;
+use raytrace::formats::ply::{icosphere, write_ascii};
 use raytrace::geometry::{DVec3, Ray, Transform};
-use raytrace::shapes::ply::{icosphere, write_ascii};
 use raytrace::shapes::{Mesh, MeshData, Shape, Sphere, Transformed};
 use std::path::Path;
 use std::sync::Arc;

@@ -1,6 +1,11 @@
 //! Image textures: a PNG or JPEG file wrapped onto a shape's (u, v).
+//! Reading the file (and its pixel budget) is `formats::image`; this is the
+//! transfer curve, the cache of decoded files and the lookup.
+
+pub use crate::formats::image::ImageError;
 
 use super::super::{Colour, Transfer};
+use crate::formats::{self, image::Pixels};
 use crate::geometry::DVec2;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -41,27 +46,6 @@ pub struct ImageTexture {
     pixels: Arc<[[f32; 3]]>,
     pub mapping: UvMapping,
 }
-
-/// Why an image could not be used.
-#[derive(Debug, thiserror::Error)]
-pub enum ImageError {
-    #[error("cannot open the image: {0}")]
-    Io(String),
-    #[error("cannot decode the image: {0}")]
-    Decode(String),
-    #[error(
-        "the image is {width}x{height}; textures are limited to {side}x{side} pixels and {} megapixels in all",
-        MAX_TEXTURE_PIXELS / 1_000_000
-    )]
-    TooLarge { width: u32, height: u32, side: u32 },
-}
-
-/// Larger images are refused from their header, before their pixels are
-/// allocated.
-pub const MAX_TEXTURE_SIDE: u32 = 16384;
-/// The pixel budget of one texture (an 8192×4096 picture fits): decoded
-/// and converted to linear colour it takes 15 bytes a pixel, about 500 MB.
-pub const MAX_TEXTURE_PIXELS: u64 = 1 << 25;
 
 /// What a decoded file is known by: its real path, size and modification
 /// time (an edited file is decoded afresh), and the transfer curve used.
@@ -108,64 +92,18 @@ impl ImageTexture {
         Ok(img)
     }
 
-    /// Reads the header, refuses what is over the pixel budget, then
-    /// decodes.
+    /// Decodes a file's pixels ([`formats::image`]) to linear colour:
+    /// display-encoded values through the scene's transfer curve.
     fn decode(path: &Path, transfer: Transfer, mapping: UvMapping) -> Result<Self, ImageError> {
-        let reader = image::ImageReader::open(path)
-            .map_err(|e| ImageError::Io(e.to_string()))?
-            .with_guessed_format()
-            .map_err(|e| ImageError::Io(e.to_string()))?;
-        let (width, height) = reader
-            .into_dimensions()
-            .map_err(|e| ImageError::Decode(e.to_string()))?;
-        if width == 0 || height == 0 {
-            return Err(ImageError::Decode(format!(
-                "the image is {width}x{height}: it has no pixels"
-            )));
-        }
-        if width > MAX_TEXTURE_SIDE
-            || height > MAX_TEXTURE_SIDE
-            || width as u64 * height as u64 > MAX_TEXTURE_PIXELS
-        {
-            return Err(ImageError::TooLarge {
-                width,
-                height,
-                side: MAX_TEXTURE_SIDE,
-            });
-        }
-        let mut reader = image::ImageReader::open(path)
-            .map_err(|e| ImageError::Io(e.to_string()))?
-            .with_guessed_format()
-            .map_err(|e| ImageError::Io(e.to_string()))?;
-        let mut limits = image::Limits::default();
-        limits.max_image_width = Some(MAX_TEXTURE_SIDE);
-        limits.max_image_height = Some(MAX_TEXTURE_SIDE);
-        // Room for the largest image at 16 bits a channel with alpha; a
-        // decoder that wants more than that is refused, not obeyed.
-        limits.max_alloc = Some(MAX_TEXTURE_PIXELS * 8 + (64 << 20));
-        reader.limits(limits);
-        // The decoders are third-party code fed user bytes, and one has
-        // panicked on a mangled palette (a fuzz find): a panic would take the
-        // whole render down, so it is caught and reported as a bad file.
-        let decoded = crate::guard::catch_quietly(|| reader.decode()).ok_or_else(|| {
-            ImageError::Decode("the file is malformed (the decoder gave up)".into())
-        })?;
-        let decoded = decoded.map_err(|e| ImageError::Decode(e.to_string()))?;
-        // Floating-point images (EXR, Radiance HDR) hold linear radiance:
-        // kept as they are, above 1 too (a sky's sun).
-        if matches!(
-            decoded,
-            image::DynamicImage::ImageRgb32F(_) | image::DynamicImage::ImageRgba32F(_)
-        ) {
-            let img = decoded.to_rgb32f();
-            return Ok(ImageTexture {
+        match formats::image::decode(path)? {
+            Pixels::Linear(img) => Ok(ImageTexture {
                 width: img.width(),
                 height: img.height(),
                 pixels: img.pixels().map(|p| p.0).collect(),
                 mapping,
-            });
+            }),
+            Pixels::Encoded(img) => Ok(Self::from_rgb8(&img, transfer, mapping)),
         }
-        Ok(Self::from_rgb8(&decoded.to_rgb8(), transfer, mapping))
     }
 
     pub fn from_rgb8(img: &image::RgbImage, transfer: Transfer, mapping: UvMapping) -> Self {
