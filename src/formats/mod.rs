@@ -1,13 +1,16 @@
 //! Readers of the file formats a scene names, kept together and apart from
-//! the shapes and textures that use what they read: meshes (PLY) come out
+//! the shapes and textures that use what they read: meshes (PLY, OBJ, STL)
+//! come out
 //! as a [`TriangleSoup`], pictures as [`image::Pixels`]. Each reader checks
 //! everything the file controls (sizes against the budgets, counts,
 //! indices, finite numbers) and reports what is wrong with a line where
 //! the format has lines.
 
 pub mod image;
+pub mod obj;
 pub mod ply;
 mod soup;
+pub mod stl;
 
 pub use soup::{FAN_MAX, MeshFileError, TriangleSoup, triangulate};
 
@@ -16,7 +19,38 @@ use std::path::Path;
 /// Largest mesh file read: 2 GiB holds some 60 million triangles.
 pub const MAX_MESH_BYTES: u64 = 2 << 30;
 
-/// Reads a mesh file, within [`MAX_MESH_BYTES`].
+/// The mesh formats, told by the file's extension (in any case).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MeshFormat {
+    Ply,
+    Obj,
+    Stl,
+}
+
+impl MeshFormat {
+    /// The format a file name says. Any other extension, or none, is read
+    /// as PLY when the file says so (`mesh "bunny"` always has been).
+    pub fn of(path: &Path) -> Option<MeshFormat> {
+        let ext = path.extension()?.to_str()?.to_ascii_lowercase();
+        match ext.as_str() {
+            "ply" => Some(MeshFormat::Ply),
+            "obj" => Some(MeshFormat::Obj),
+            "stl" => Some(MeshFormat::Stl),
+            _ => None,
+        }
+    }
+
+    pub fn parse(self, bytes: &[u8]) -> Result<TriangleSoup, MeshFileError> {
+        match self {
+            MeshFormat::Ply => ply::parse(bytes),
+            MeshFormat::Obj => obj::parse(bytes),
+            MeshFormat::Stl => stl::parse(bytes),
+        }
+    }
+}
+
+/// Reads a mesh file, within [`MAX_MESH_BYTES`], in the format its
+/// extension names.
 pub fn read_mesh(path: &Path) -> Result<TriangleSoup, MeshFileError> {
     let bytes =
         crate::lang::source::read_bounded(path, MAX_MESH_BYTES).map_err(|e| MeshFileError {
@@ -24,5 +58,13 @@ pub fn read_mesh(path: &Path) -> Result<TriangleSoup, MeshFileError> {
             line: None,
             element: None,
         })?;
-    ply::parse(&bytes)
+    match MeshFormat::of(path) {
+        Some(format) => format.parse(&bytes),
+        None if bytes.starts_with(b"ply") => ply::parse(&bytes),
+        None => Err(MeshFileError {
+            message: "not a mesh file this reads: the name should end in .ply, .obj or .stl".into(),
+            line: None,
+            element: None,
+        }),
+    }
 }

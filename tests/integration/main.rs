@@ -11,6 +11,7 @@ mod hostile;
 mod lang;
 mod looks;
 mod mesh;
+mod mesh_formats;
 mod placement;
 mod render;
 #[path = "../../src/shared_data.rs"]
