@@ -25,6 +25,7 @@ pub mod shapes;
 #[cfg(test)]
 pub(crate) mod shared_data;
 pub mod signals;
+pub mod stdlib;
 #[cfg(test)]
 pub(crate) mod watchdog;
 

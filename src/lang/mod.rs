@@ -196,12 +196,21 @@ impl Loader {
         }
         let dir = self.sources.dir_of(from);
         let path = clean(&dir.join(rel));
-        let Ok(canonical) = path.canonicalize() else {
-            let e = Error::new(string, format!("cannot find the included file `{rel}`"))
-                .label(format!("looked for {}", path.display()))
-                .help("an include path is relative to the folder of the file that includes it");
-            self.errors.push(e);
-            return Vec::new();
+        // `std/NAME` is the built-in library's file when it has one (a file
+        // of the user's at that path is then not read: `./std/NAME` reaches
+        // it), else a file on disk like any other.
+        let standard = rel
+            .strip_prefix(crate::stdlib::PREFIX)
+            .and_then(crate::stdlib::get);
+        let canonical = match standard {
+            Some(_) => PathBuf::from(format!("<{rel}>")),
+            None => match path.canonicalize() {
+                Ok(c) => c,
+                Err(_) => {
+                    self.errors.push(missing_include(rel, &path, string));
+                    return Vec::new();
+                }
+            },
         };
         if let Some(k) = chain.iter().position(|p| *p == canonical) {
             let names: Vec<String> = chain[k..]
@@ -239,7 +248,12 @@ impl Loader {
             return Vec::new();
         }
         let left = MAX_TOTAL_BYTES.saturating_sub(self.bytes);
-        let text = match source::read_text(&canonical, left) {
+        let read = match standard {
+            Some(t) if t.len() as u64 > left => Err("above the limit".to_string()),
+            Some(t) => Ok(t.to_string()),
+            None => source::read_text(&canonical, left),
+        };
+        let text = match read {
             Ok(t) => t,
             Err(e) if e.contains("above the limit") => {
                 self.over_budget = true;
@@ -261,11 +275,30 @@ impl Loader {
         };
         let _ = content;
         self.bytes += text.len() as u64;
+        let (name, path) = match standard {
+            Some(_) => (rel.to_string(), canonical.clone()),
+            None => (path.display().to_string(), path),
+        };
         let mut chain = chain.to_vec();
         chain.push(canonical);
-        let name = path.display().to_string();
         self.file(name, path, text, Some(string), &chain, depth).1
     }
+}
+
+/// An include whose file is not there; under `std/`, with the library's
+/// closest name.
+fn missing_include(rel: &str, path: &Path, string: Span) -> Error {
+    let e = Error::new(string, format!("cannot find the included file `{rel}`"));
+    if rel.starts_with(crate::stdlib::PREFIX) {
+        let names: Vec<String> = crate::stdlib::include_names().collect();
+        let e = e.label("not a file of the standard library");
+        return match diagnostics::did_you_mean(rel, names.iter().map(String::as_str)) {
+            Some(hint) => e.help(hint),
+            None => e.help(format!("the standard library has {}", names.join(", "))),
+        };
+    }
+    e.label(format!("looked for {}", path.display()))
+        .help("an include path is relative to the folder of the file that includes it")
 }
 
 /// The first control character in a scene's text (tabs and line breaks

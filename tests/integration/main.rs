@@ -16,6 +16,7 @@ mod placement;
 mod render;
 #[path = "../../src/shared_data.rs"]
 mod shared_data;
+mod stdlib;
 mod support;
 mod textures;
 #[path = "../../src/watchdog.rs"]
