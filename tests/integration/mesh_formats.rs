@@ -208,3 +208,42 @@ fn broken_files_are_reported_at_their_line() {
     let r = report(dir.path(), "bad.off", b"OFF\n3 1 0\n");
     assert!(r.contains(".ply, .obj or .stl"), "{r}");
 }
+
+/// The example OBJ and STL files are the solids they say: closed, wound
+/// outwards (positive volume by the divergence theorem), of the right size.
+#[test]
+fn the_example_obj_and_stl_are_closed_outward_solids() {
+    let _watchdog = crate::watchdog::start();
+    let dir = super::support::project_root().join("examples/meshes");
+    // (file, vertices, triangles, volume): the octahedron of circumradius
+    // 1 holds 4/3; the tetrahedron inscribed in the cube [-1, 1]³ holds
+    // 8/3.
+    for (name, v, t, volume) in [
+        ("octahedron.obj", 6, 8, 4.0 / 3.0),
+        ("tetrahedron.stl", 4, 4, 8.0 / 3.0),
+    ] {
+        let soup = raytrace::formats::read_mesh(&dir.join(name)).unwrap();
+        assert_eq!(
+            (soup.positions.len(), soup.triangles.len()),
+            (v, t),
+            "{name}"
+        );
+        let signed: f64 = soup
+            .triangles
+            .iter()
+            .map(|tri| {
+                let [a, b, c] = tri.map(|k| soup.positions[k as usize]);
+                a.dot(b.cross(c)) / 6.0
+            })
+            .sum();
+        assert!((signed - volume).abs() < 1e-9, "{name}: {signed}");
+        if let Some(n) = &soup.normals {
+            // The octahedron's normals are its vertices' directions.
+            for (p, n) in soup.positions.iter().zip(n) {
+                assert!((*p - *n).length() < 1e-12, "{name}");
+            }
+        }
+        let d = raytrace::shapes::MeshData::from_soup(soup);
+        assert!(d.is_closed(), "{name}");
+    }
+}

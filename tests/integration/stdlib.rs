@@ -177,3 +177,27 @@ fn std_includes_count_in_the_budgets() {
     let r = problems(&root);
     assert!(r.contains("included text is too large"), "{r}");
 }
+
+/// docs/std.md shows every material of every std file, and its swatch is
+/// committed (scripts/std_swatches.sh writes them).
+#[test]
+fn the_docs_show_every_material_with_its_swatch() {
+    let root = super::support::project_root();
+    let doc = std::fs::read_to_string(root.join("docs/std.md")).unwrap();
+    for (name, text) in FILES {
+        assert!(
+            doc.contains(&format!("## std/{name}")),
+            "docs/std.md has no section for {name}"
+        );
+        for m in materials(text) {
+            assert!(
+                doc.contains(&format!("![{m}](std/{m}.png)")),
+                "docs/std.md does not show `{m}`"
+            );
+            assert!(
+                root.join(format!("docs/std/{m}.png")).is_file(),
+                "docs/std/{m}.png is missing: run scripts/std_swatches.sh"
+            );
+        }
+    }
+}
