@@ -492,6 +492,49 @@ f 4 1 5 8
         assert!(e.message.contains('…'));
     }
 
+    /// A face of 200,000 corners is cut by halving, not a fan of slivers,
+    /// and read at once.
+    #[test]
+    fn a_huge_polygon_reads_quickly() {
+        let n = 200_000;
+        let mut text = String::new();
+        for k in 0..n {
+            let a = std::f64::consts::TAU * k as f64 / n as f64;
+            text += &format!("v {} {} 0\n", a.cos(), a.sin());
+        }
+        text += "f";
+        for k in 1..=n {
+            text += &format!(" {k}");
+        }
+        let start = std::time::Instant::now();
+        let m = parse(text.as_bytes()).unwrap();
+        assert_eq!(m.triangles.len(), n - 2);
+        assert!(start.elapsed().as_secs_f64() < 5.0);
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(300))]
+        /// Mangled files never panic: each is read or refused.
+        #[test]
+        fn mangled_files_never_panic(
+            edits in proptest::collection::vec(
+                (proptest::prelude::any::<proptest::sample::Index>(), proptest::prelude::any::<u8>(), 0u8..3),
+                1..8,
+            ),
+        ) {
+            let mut b = format!("{CUBE}vt 0 0\nvn 0 0 1\nf 1/1/1 2/1/1 -1/-1/-1\n").into_bytes();
+            for (at, byte, op) in edits {
+                let i = at.index(b.len());
+                match op {
+                    0 => b[i] = byte,
+                    1 => b.insert(i, byte),
+                    _ => { b.remove(i); }
+                }
+            }
+            let _ = parse(&b);
+        }
+    }
+
     /// Files the project writes (the icosphere as OBJ) read back as their
     /// PLY twin does.
     #[test]

@@ -462,6 +462,34 @@ mod tests {
         assert!(parse(b"abc").unwrap_err().message.contains("too short"));
     }
 
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(300))]
+        /// Mangled files, binary and ASCII, never panic.
+        #[test]
+        fn mangled_files_never_panic(
+            ascii: bool,
+            edits in proptest::collection::vec(
+                (proptest::prelude::any::<proptest::sample::Index>(), proptest::prelude::any::<u8>(), 0u8..3),
+                1..8,
+            ),
+        ) {
+            let mut b = if ascii {
+                write_ascii("t", &tetra()).into_bytes()
+            } else {
+                write_binary(&tetra())
+            };
+            for (at, byte, op) in edits {
+                let i = at.index(b.len());
+                match op {
+                    0 => b[i] = byte,
+                    1 => b.insert(i, byte),
+                    _ => { b.remove(i); }
+                }
+            }
+            let _ = parse(&b);
+        }
+    }
+
     #[test]
     fn negative_zero_welds_with_zero() {
         let mut t = tetra();
