@@ -51,6 +51,8 @@ pub fn parse(bytes: &[u8]) -> Result<TriangleSoup, MeshFileError> {
             Some(line),
         )
     })?;
+    // A byte-order mark, as some Windows tools write, is no text.
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let mut r = Reader::default();
     for (i, line) in lines(text).enumerate() {
         r.statement(line, i + 1)?;
@@ -407,6 +409,7 @@ f 4 1 5 8
         assert_eq!(parse(CUBE.replace('\n', "\r").as_bytes()).unwrap(), want);
         let commented = CUBE.replace("f 1 4 3 2", "f 1 4 3 2 # bottom");
         assert_eq!(parse(commented.as_bytes()).unwrap(), want);
+        assert_eq!(parse(format!("\u{feff}{CUBE}").as_bytes()).unwrap(), want);
     }
 
     /// Every malformed file says its line and quotes what is wrong.

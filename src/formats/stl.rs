@@ -41,11 +41,14 @@ pub fn parse(bytes: &[u8]) -> Result<TriangleSoup, MeshFileError> {
         .get(80..84)
         .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as u64);
     let binary_len = declared.map(|n| HEADER as u64 + RECORD as u64 * n);
-    let starts_solid = bytes.len() >= 5 && bytes[..5].eq_ignore_ascii_case(b"solid");
+    // Blank space (or a UTF-8 byte-order mark) before `solid` is allowed.
+    let text = bytes.strip_prefix(b"\xef\xbb\xbf").unwrap_or(bytes);
+    let text = text.trim_ascii_start();
+    let starts_solid = text.len() >= 5 && text[..5].eq_ignore_ascii_case(b"solid");
     if binary_len == Some(bytes.len() as u64) {
         binary(bytes)
     } else if starts_solid {
-        ascii(bytes)
+        ascii(bytes.strip_prefix(b"\xef\xbb\xbf").unwrap_or(bytes))
     } else {
         Err(match (declared, binary_len) {
             (Some(n), Some(want)) => err(
@@ -402,6 +405,8 @@ mod tests {
         assert_eq!(parse(text.replace('\n', "\r").as_bytes()).unwrap(), want);
         let unnamed = text.replace("solid tetra", "solid");
         assert_eq!(parse(unnamed.as_bytes()).unwrap(), want);
+        let indented = format!("\u{feff}\n  {text}");
+        assert_eq!(parse(indented.as_bytes()).unwrap(), want);
         let t = tetra();
         let two = write_ascii("a", &t[..2]) + &write_ascii("b", &t[2..]);
         assert_eq!(parse(two.as_bytes()).unwrap(), want);
