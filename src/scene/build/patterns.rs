@@ -278,7 +278,8 @@ impl Builder<'_> {
             return None;
         }
         let mut ok = true;
-        let (place, scale) = self.placement(&mut p, &mut ok);
+        let mut mirrored = false;
+        let (place, scale) = self.placement(&mut p, &mut ok, &mut mirrored);
         let mut pattern = Pattern::new(Kind::Granite(Granite));
         if let Some(q) = p.take("turbulence") {
             match self.checked(&q.values[0], |t| t >= 0.0 && t.is_finite(), "0 or more") {
@@ -356,8 +357,10 @@ impl Builder<'_> {
                     },
                     None => DVec3::Y,
                 };
-                let mirror = p.take("mirror").is_some();
-                Kind::Gradient(Gradient { axis, mirror })
+                Kind::Gradient(Gradient {
+                    axis,
+                    mirror: mirrored,
+                })
             }
             "noise" => {
                 pattern.scale = solid_scale;
@@ -417,11 +420,17 @@ impl Builder<'_> {
         &mut self,
         p: &mut Params,
         ok: &mut bool,
+        mirrored: &mut bool,
     ) -> (
         Option<crate::geometry::Transform>,
         Option<(ScaleGiven, Span)>,
     ) {
         let mut moves = p.take_transforms();
+        // `mirror` is a transform's name too; in a gradient it is a flag.
+        if let Some(k) = moves.iter().position(|q| q.name.node == "mirror") {
+            *mirrored = true;
+            moves.remove(k);
+        }
         let scale = moves
             .iter()
             .position(|q| q.name.node == "scale")
@@ -621,7 +630,7 @@ impl Builder<'_> {
                 }),
             None => 0.5,
         };
-        let (place, scale) = self.placement(&mut p, &mut ok);
+        let (place, scale) = self.placement(&mut p, &mut ok, &mut false);
         let scale = match scale {
             None => 1.0,
             Some((ScaleGiven::Number(s), _)) => s,
