@@ -277,3 +277,52 @@ fn pattern_mistakes_are_reported_with_help() {
     let e = build_errors("sphere { material { checker { a nothing_here  b black } } }");
     assert!(e[0].contains("unknown material `nothing_here`"), "{e:?}");
 }
+
+/// The `material NAME` statements of a library file, each checked to have
+/// a comment line right above it.
+fn documented_materials(file: &str) -> Vec<String> {
+    let text = std::fs::read_to_string(project_root().join(file)).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    let mut names = Vec::new();
+    for (i, line) in lines.iter().enumerate() {
+        if let Some(rest) = line.strip_prefix("material ") {
+            let name = rest.split_whitespace().next().unwrap().to_string();
+            assert!(
+                i > 0 && lines[i - 1].starts_with("//"),
+                "{file}: `{name}` has no comment line above it"
+            );
+            names.push(name);
+        }
+    }
+    names
+}
+
+#[test]
+fn the_wood_and_stone_libraries_build_and_every_material_shows_a_pattern() {
+    let _watchdog = crate::watchdog::start();
+    for (file, at_least) in [("src/stdlib/woods.rt", 4), ("src/stdlib/stones.rt", 5)] {
+        let names = documented_materials(file);
+        assert!(names.len() >= at_least, "{file}: {names:?}");
+        let path = project_root().join(file);
+        for name in names {
+            // Each material on a sphere that fills the view: more than one
+            // colour (its pattern shows) and nothing missing.
+            let film = render_src(&format!(
+                "include \"{}\"
+camera {{ position <0, 0, 3>  look_at <0, 0, 0>  fov 30 }}
+render {{ width 24  height 24  gamma linear }}
+ambient white intensity 1
+sphere {{ radius 1  material {name} }}
+",
+                path.display()
+            ));
+            let centre = film.get(12, 12);
+            let differ = film
+                .pixels
+                .iter()
+                .filter(|p| (0..3).any(|i| (p[i] - centre[i]).abs() > 0.01))
+                .count();
+            assert!(differ > 20, "{file}: `{name}` looks uniform");
+        }
+    }
+}
