@@ -274,7 +274,19 @@ fn pattern_mistakes_are_reported_with_help() {
     assert!(e[0].contains("a checker's scale is"), "{e:?}");
     let e = build_errors("sphere { material { colour sectors { count 1 } } }");
     assert!(e[0].contains("from 2 to 360"), "{e:?}");
-    let e = build_errors("sphere { material { checker { a nothing_here  b black } } }");
+    let e =
+        build_errors("material m { colour red }\nsphere { material { checker { a m  b black } } }");
+    assert!(
+        e[0].contains("expected a material, found a colour")
+            && e[0].contains("colour checker { a white  b black }"),
+        "{e:?}"
+    );
+    let e = build_errors("sphere { material { chequer { a white  b black } } }");
+    assert!(
+        e[0].contains("unknown pattern `chequer`") && e[0].contains("did you mean `checker`?"),
+        "{e:?}"
+    );
+    let e = build_errors("sphere { material { checker { a nothing_here  b { colour red } } } }");
     assert!(e[0].contains("unknown material `nothing_here`"), "{e:?}");
 }
 

@@ -996,6 +996,9 @@ impl<'p> Builder<'p> {
             let used = 1 + usize::from(w.string.is_some()) + usize::from(w.block.is_some());
             return self.picking_material(&w, &block.items[used..]);
         }
+        if self.misspelt_pattern(&block.items) {
+            return None;
+        }
         let mut p = self.params("material", block, &params::MATERIAL);
         let mut m = Material::default();
         let mut ok = true;

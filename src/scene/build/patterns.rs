@@ -13,6 +13,7 @@
 
 use super::params::{Param, Params, Schema, Spec, spec};
 use super::{Builder, Colour, Material, Texture};
+use crate::eval::expr::Value;
 use crate::geometry::{DVec2, DVec3};
 use crate::lang::ast::{Block, Item, Span, Spanned};
 use crate::lang::diagnostics::{Error, did_you_mean};
@@ -205,8 +206,8 @@ impl Builder<'_> {
             }
             None => match (p.take("a"), p.take("b")) {
                 (Some(a), Some(b)) => {
-                    let a = self.material_value(&a.values[0]);
-                    let b = self.material_value(&b.values[0]);
+                    let a = self.chosen_material(&a.values[0]);
+                    let b = self.chosen_material(&b.values[0]);
                     Some(vec![(0.0, a?), (0.5, b?)])
                 }
                 _ => {
@@ -233,6 +234,51 @@ impl Builder<'_> {
             })),
             ..Material::default()
         })
+    }
+
+    /// A material chosen by a pattern; a colour there is a kind error.
+    fn chosen_material(&mut self, item: &Item) -> Option<MaterialId> {
+        let declared = item.as_name().is_some_and(|n| {
+            self.materials.contains_key(n.node) || self.all_materials.contains_key(n.node)
+        });
+        if let Item::Value(e) = item
+            && !declared
+        {
+            let mut quiet = Vec::new();
+            if let Some(Value::Colour(_)) = self.env.eval(e, &mut quiet) {
+                self.err(
+                    Error::new(e.span, "expected a material, found a colour")
+                        .label("a colour where a material is needed")
+                        .help("write it as a material, `{ colour … }`, or for a colour pattern write `colour checker { a white  b black }`"),
+                );
+                return None;
+            }
+        }
+        self.material_value(item)
+    }
+
+    /// `material m { chequer { … } }`: a misspelt pattern name, reported as
+    /// one (the params reader would suggest a material parameter).
+    pub(super) fn misspelt_pattern(&mut self, items: &[Item]) -> bool {
+        let Some(n) = items.first().and_then(Item::as_name) else {
+            return false;
+        };
+        if !matches!(items.get(1), Some(Item::Block(_)))
+            || super::params::MATERIAL
+                .get(super::params::canonical(n.node))
+                .is_some()
+        {
+            return false;
+        }
+        let Some(help) = did_you_mean(n.node, pattern::NAMES.iter().copied()) else {
+            return false;
+        };
+        self.err(
+            Error::new(n.span, format!("unknown pattern `{}`", n.node))
+                .label("not a pattern")
+                .help(help),
+        );
+        true
     }
 
     fn both_given(&mut self, first: &Param, map: &Param) {
@@ -570,7 +616,7 @@ impl Builder<'_> {
         let mut bands = Vec::new();
         let mut ok = true;
         for (k, _, item) in entries {
-            match self.material_value(item) {
+            match self.chosen_material(item) {
                 Some(m) => bands.push((k, m)),
                 None => ok = false,
             }
