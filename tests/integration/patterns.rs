@@ -338,3 +338,65 @@ sphere {{ radius 1  material {name} }}
         }
     }
 }
+
+#[test]
+fn a_rotated_pattern_is_the_pattern_along_the_rotated_axis() {
+    let _watchdog = crate::watchdog::start();
+    // Read at M⁻¹p, the value is frac(p·(M a)): rotating y by 90° takes
+    // the axis x to −z.
+    let turned =
+        top_down("{ colour gradient { axis <0.25, 0, 0>  rotate y 90  a black  b white } }");
+    let along = top_down("{ colour gradient { axis <0, 0, -0.25>  a black  b white } }");
+    let plain = top_down("{ colour gradient { axis <0.25, 0, 0>  a black  b white } }");
+    // Away from the jumps (where rounding may land on either side).
+    let mut same = 0;
+    for (p, q) in turned.pixels.iter().zip(&along.pixels) {
+        if q[0] > 0.01 && q[0] < 0.99 {
+            assert!((p[0] - q[0]).abs() < 1e-5, "{p:?} vs {q:?}");
+            same += 1;
+        }
+    }
+    assert!(same > 1000, "{same}");
+    assert!(max_difference(&turned, &plain) > 0.5);
+}
+
+#[test]
+fn an_image_with_a_map_is_its_luminance() {
+    let _watchdog = crate::watchdog::start();
+    let dir = tempfile::tempdir().unwrap();
+    let mut img = image::RgbImage::new(2, 2);
+    img.put_pixel(0, 0, image::Rgb([255, 0, 0]));
+    img.put_pixel(1, 0, image::Rgb([0, 255, 0]));
+    img.put_pixel(0, 1, image::Rgb([0, 0, 255]));
+    img.put_pixel(1, 1, image::Rgb([255, 255, 255]));
+    img.save(dir.path().join("quad.png")).unwrap();
+    let scene = dir.path().join("scene.rt");
+    std::fs::write(
+        &scene,
+        "
+camera { position <0, 0, 1>  look_at <0, 0, 0>  distance 1  width 2  height 2 }
+render { width 40  height 40  gamma linear }
+ambient white intensity 1
+rectangle { bottom_left <-1, -1, 0>  top_left <-1, 1, 0>  bottom_right <1, -1, 0>
+            material { colour image \"quad.png\" { a black  b rgb(1, 0, 1) } } }
+",
+    )
+    .unwrap();
+    let film = render_path(&scene, None, 2);
+    // Near each quadrant's centre (bilinear blending adds at most a few
+    // percent of its neighbours): red, green, blue, white → their luminance
+    // as the map's value: rgb(y, 0, y).
+    for (a, b, y) in [
+        (10, 10, 0.2126),
+        (29, 10, 0.7152),
+        (10, 29, 0.0722),
+        (29, 29, 1.0),
+    ] {
+        let c = film.get(a, b);
+        assert!(
+            (c[0] as f64 - y).abs() < 0.04 && c[1] == 0.0,
+            "({a}, {b}): {c:?} vs {y}"
+        );
+        assert_eq!(c[0], c[2]);
+    }
+}

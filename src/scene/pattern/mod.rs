@@ -187,3 +187,43 @@ impl ColourPattern {
         self.map.at(self.pattern.value(p, uv))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn turbulence_moves_a_solid_pattern_and_zero_leaves_it() {
+        let g = |t| Pattern {
+            turbulence: t,
+            ..Pattern::new(Kind::Gradient(Gradient {
+                axis: DVec3::new(0.3, 0.0, 0.0),
+                mirror: false,
+            }))
+        };
+        let (calm, rough) = (g(0.0), g(0.8));
+        let mut moved = 0;
+        for i in 0..200 {
+            let p = DVec3::new(i as f64 * 0.05, 0.3, -0.2);
+            assert_eq!(calm.value(p, DVec2::ZERO), (0.3 * p.x).fract());
+            let v = rough.value(p, DVec2::ZERO);
+            assert!((0.0..=1.0).contains(&v));
+            if (v - calm.value(p, DVec2::ZERO)).abs() > 0.02 {
+                moved += 1;
+            }
+        }
+        assert!(moved > 100, "{moved}");
+    }
+
+    #[test]
+    fn placement_translates_then_scales_solid_points() {
+        let mut p = Pattern::new(Kind::Gradient(Gradient {
+            axis: DVec3::X,
+            mirror: false,
+        }));
+        p.place = Some(Transform::translate(DVec3::new(0.25, 0.0, 0.0)));
+        p.scale = DVec3::splat(0.5);
+        // ((1 − 0.25) · 0.5) = 0.375
+        assert_eq!(p.value(DVec3::new(1.0, 7.0, 7.0), DVec2::ZERO), 0.375);
+    }
+}
