@@ -91,10 +91,16 @@ const PLAIN: Schema = schema!(SCALE, TURBULENCE);
 const SECTORS: Schema = schema!(
     spec("count", 1, "a whole number of sectors from 2 to 360"),
     spec("uv", 0, "nothing"),
+    spec("alternate", 0, "nothing"),
     SCALE,
     TURBULENCE
 );
-const QUADRANTS: Schema = schema!(spec("uv", 0, "nothing"), SCALE, TURBULENCE);
+const QUADRANTS: Schema = schema!(
+    spec("uv", 0, "nothing"),
+    spec("alternate", 0, "nothing"),
+    SCALE,
+    TURBULENCE
+);
 const IMAGE: Schema = schema!(
     spec("scale", 1, "a 2-vector `<su, sv>` or a number"),
     spec("offset", 1, "a 2-vector `<ou, ov>`"),
@@ -438,7 +444,12 @@ impl Builder<'_> {
                     );
                     ok = false;
                 }
-                Kind::Sectors(Sectors { count, uv })
+                let alternate = p.take("alternate").is_some();
+                Kind::Sectors(Sectors {
+                    count,
+                    uv,
+                    alternate,
+                })
             }
             "image" => {
                 let image = self.image_for_pattern(w, scale.map(|(g, _)| g), &mut p)?;

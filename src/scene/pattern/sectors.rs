@@ -3,7 +3,9 @@
 //! towards +z; with `uv`: around the (u, v) origin, φ = atan2(v, u) from
 //! +u towards +v (a `translate <u0, v0, 0>` moves the centre). Sector
 //! k = ⌊n·φ/2π⌋ (φ in [0, 2π)) has the value k/(n − 1): 0 for the first,
-//! 1 for the last, so `a`/`b` or a `colour_map` tells them apart.
+//! 1 for the last, so `a`/`b` or a `colour_map` tells them apart. With
+//! `alternate` the value is k mod 2 instead: wedges of `a` and `b` in turn
+//! (an even `count` closes the circle without two alike side by side).
 
 use crate::geometry::{DVec2, DVec3};
 use std::f64::consts::TAU;
@@ -14,6 +16,8 @@ pub struct Sectors {
     pub count: u32,
     /// Around the (u, v) origin instead of the y axis.
     pub uv: bool,
+    /// 0 and 1 in turn instead of k/(n − 1).
+    pub alternate: bool,
 }
 
 impl Sectors {
@@ -21,7 +25,11 @@ impl Sectors {
         let phi = b.atan2(a).rem_euclid(TAU);
         let n = self.count as f64;
         let k = ((n * phi / TAU).floor()).min(n - 1.0);
-        k / (n - 1.0)
+        if self.alternate {
+            k % 2.0
+        } else {
+            k / (n - 1.0)
+        }
     }
 
     pub fn value_solid(&self, p: DVec3) -> f64 {
@@ -47,6 +55,7 @@ mod tests {
         let q = Sectors {
             count: 4,
             uv: false,
+            alternate: false,
         };
         for (deg, v) in [
             (1.0, 0.0),
@@ -64,13 +73,29 @@ mod tests {
 
     #[test]
     fn six_sectors_change_every_sixty_degrees_in_uv() {
-        let s = Sectors { count: 6, uv: true };
+        let s = Sectors {
+            count: 6,
+            uv: true,
+            alternate: false,
+        };
         for k in 0..6 {
             for d in [0.5, 59.5] {
                 let a = (60.0 * k as f64 + d).to_radians();
                 let v = s.value_uv(DVec2::new(a.cos(), a.sin()) * 3.0);
                 assert_eq!(v, k as f64 / 5.0, "sector {k} at +{d}°");
             }
+        }
+    }
+
+    #[test]
+    fn alternate_wedges_take_turns() {
+        let s = Sectors {
+            count: 8,
+            uv: false,
+            alternate: true,
+        };
+        for k in 0..8 {
+            assert_eq!(at_degrees(&s, 45.0 * k as f64 + 20.0), (k % 2) as f64);
         }
     }
 }
