@@ -22,7 +22,10 @@ fn course_coordinate(s: f64, k: f64) -> i64 {
 
 impl Checker {
     pub fn value(&self, uv: DVec2) -> f64 {
-        let i = course_coordinate(uv.x, self.scale.x) + course_coordinate(uv.y, self.scale.y);
+        // Wrapping keeps the parity (2⁶⁴ is even) where a huge scale
+        // saturates both coordinates at i64::MAX.
+        let i = course_coordinate(uv.x, self.scale.x)
+            .wrapping_add(course_coordinate(uv.y, self.scale.y));
         if i.rem_euclid(2) == 0 { 0.0 } else { 1.0 }
     }
 }
@@ -41,6 +44,15 @@ mod tests {
         assert_eq!(c.value(DVec2::new(0.6, 0.6)), 0.0);
         // Negative side: f(s) = 1 − k·s, so −0.1 gives 1.2 → cell 1.
         assert_eq!(c.value(DVec2::new(-0.1, 0.1)), 1.0);
+    }
+
+    #[test]
+    fn a_huge_scale_is_no_overflow() {
+        let c = Checker {
+            scale: DVec2::splat(1e300),
+        };
+        let v = c.value(DVec2::new(0.5, 0.7));
+        assert!(v == 0.0 || v == 1.0);
     }
 
     #[test]
