@@ -11,6 +11,7 @@ mod hostile;
 mod lang;
 mod looks;
 mod mesh;
+mod patterns;
 mod placement;
 mod render;
 #[path = "../../src/shared_data.rs"]

@@ -15,6 +15,7 @@
 mod area;
 mod objects;
 mod params;
+mod patterns;
 mod textures;
 
 use super::{
@@ -1014,6 +1015,13 @@ impl<'p> Builder<'p> {
     }
 
     fn material_block(&mut self, block: &Block) -> Option<Material> {
+        if let Some(w) = patterns::material_pattern(&block.items) {
+            let used = 1 + usize::from(w.string.is_some()) + usize::from(w.block.is_some());
+            return self.picking_material(&w, &block.items[used..]);
+        }
+        if self.misspelt_pattern(&block.items) {
+            return None;
+        }
         let mut p = self.params("material", block, &params::MATERIAL);
         let mut m = Material::default();
         let mut ok = true;
@@ -1030,6 +1038,12 @@ impl<'p> Builder<'p> {
                 "between 0 and 1",
             ) {
                 Some(r) => m.reflect = r,
+                None => ok = false,
+            }
+        }
+        if let Some(q) = p.take("normal") {
+            match self.normal_pattern(&q.values) {
+                Some(n) => m.normal = Some(Arc::new(n)),
                 None => ok = false,
             }
         }
