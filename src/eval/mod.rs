@@ -411,21 +411,30 @@ impl<'p> Expander<'p> {
         if self.stopped.get() {
             return false;
         }
-        let n = self.steps.get() + 1;
-        self.steps.set(n);
-        if n > self.options.limits.steps {
-            self.stop(
-                errors,
-                Error::new(
-                    span,
-                    format!(
-                        "the scene program ran for more than {} evaluation steps",
-                        self.options.limits.steps
-                    ),
-                )
-                .label("still running here")
-                .help("look for a loop or recursion that does more than meant, or raise the limit with `--max-steps N`"),
-            );
+        let limit = self.options.limits.steps;
+        self.within(&self.steps, limit, errors, || {
+            Error::new(
+                span,
+                format!("the scene program ran for more than {limit} evaluation steps"),
+            )
+            .label("still running here")
+            .help("look for a loop or recursion that does more than meant, or raise the limit with `--max-steps N`")
+        })
+    }
+
+    /// Counts one more against a budget; past `limit`, reports `error` once
+    /// and stops all further evaluation.
+    fn within(
+        &self,
+        counter: &Cell<u64>,
+        limit: u64,
+        errors: &mut Vec<Error>,
+        error: impl FnOnce() -> Error,
+    ) -> bool {
+        let n = counter.get() + 1;
+        counter.set(n);
+        if n > limit {
+            self.stop(errors, error());
             return false;
         }
         true
@@ -476,24 +485,12 @@ impl<'p> Expander<'p> {
     }
 
     fn count_object(&self, span: Span, errors: &mut Vec<Error>) -> bool {
-        let n = self.objects.get() + 1;
-        self.objects.set(n);
-        if n > self.options.limits.objects {
-            self.stop(
-                errors,
-                Error::new(
-                    span,
-                    format!(
-                        "the scene makes more than {} objects",
-                        self.options.limits.objects
-                    ),
-                )
+        let limit = self.options.limits.objects;
+        self.within(&self.objects, limit, errors, || {
+            Error::new(span, format!("the scene makes more than {limit} objects"))
                 .label("one too many")
-                .help("raise the limit with `--max-objects N` if this is meant"),
-            );
-            return false;
-        }
-        true
+                .help("raise the limit with `--max-objects N` if this is meant")
+        })
     }
 
     fn remember(&self, name: &str) {

@@ -349,42 +349,8 @@ fn expr_depth(p: Pair<Rule>, at: Loc) -> Built {
     }
     PRATT
         .map_primary(|p| primary(p, at))
-        .map_prefix(|op, rhs| {
-            let (rhs, d) = rhs?;
-            let span = span_of(&op, at).to(rhs.span);
-            node(
-                Expr {
-                    kind: ExprKind::Neg(Box::new(rhs)),
-                    span,
-                },
-                d,
-            )
-        })
-        .map_infix(|lhs, op, rhs| {
-            let (lhs, dl) = lhs?;
-            let (rhs, dr) = rhs?;
-            let op = match op.as_rule() {
-                Rule::add => BinOp::Add,
-                Rule::sub => BinOp::Sub,
-                Rule::mul => BinOp::Mul,
-                Rule::div => BinOp::Div,
-                Rule::pow => BinOp::Pow,
-                Rule::rem => BinOp::Rem,
-                r => unreachable!("grammar: unexpected operator {r:?}"),
-            };
-            let span = lhs.span.to(rhs.span);
-            node(
-                Expr {
-                    kind: ExprKind::Binary {
-                        op,
-                        lhs: Box::new(lhs),
-                        rhs: Box::new(rhs),
-                    },
-                    span,
-                },
-                dl.max(dr),
-            )
-        })
+        .map_prefix(|op, rhs| unary(ExprKind::Neg, span_of(&op, at), rhs?))
+        .map_infix(|lhs, op, rhs| binary(bin_op(op.as_rule()), lhs?, rhs?))
         .map_postfix(|base, op| {
             let (base, db) = base?;
             let whole = span_of(&op, at);
@@ -411,45 +377,59 @@ fn expr_depth(p: Pair<Rule>, at: Loc) -> Built {
 fn cexpr_depth(p: Pair<Rule>, at: Loc) -> Built {
     CPRATT
         .map_primary(|p| expr_depth(p, at))
-        .map_prefix(|op, rhs| {
-            let (rhs, d) = rhs?;
-            let span = span_of(&op, at).to(rhs.span);
-            node(
-                Expr {
-                    kind: ExprKind::Not(Box::new(rhs)),
-                    span,
-                },
-                d,
-            )
-        })
-        .map_infix(|lhs, op, rhs| {
-            let (lhs, dl) = lhs?;
-            let (rhs, dr) = rhs?;
-            let op = match op.as_rule() {
-                Rule::or_op => BinOp::Or,
-                Rule::and_op => BinOp::And,
-                Rule::eq => BinOp::Eq,
-                Rule::ne => BinOp::Ne,
-                Rule::lt => BinOp::Lt,
-                Rule::le => BinOp::Le,
-                Rule::gt => BinOp::Gt,
-                Rule::ge => BinOp::Ge,
-                r => unreachable!("grammar: unexpected condition operator {r:?}"),
-            };
-            let span = lhs.span.to(rhs.span);
-            node(
-                Expr {
-                    kind: ExprKind::Binary {
-                        op,
-                        lhs: Box::new(lhs),
-                        rhs: Box::new(rhs),
-                    },
-                    span,
-                },
-                dl.max(dr),
-            )
-        })
+        .map_prefix(|op, rhs| unary(ExprKind::Not, span_of(&op, at), rhs?))
+        .map_infix(|lhs, op, rhs| binary(bin_op(op.as_rule()), lhs?, rhs?))
         .parse(p.into_inner())
+}
+
+/// The operator a grammar rule stands for, in both precedence tables
+/// (arithmetic and conditions).
+fn bin_op(rule: Rule) -> BinOp {
+    match rule {
+        Rule::add => BinOp::Add,
+        Rule::sub => BinOp::Sub,
+        Rule::mul => BinOp::Mul,
+        Rule::div => BinOp::Div,
+        Rule::pow => BinOp::Pow,
+        Rule::rem => BinOp::Rem,
+        Rule::or_op => BinOp::Or,
+        Rule::and_op => BinOp::And,
+        Rule::eq => BinOp::Eq,
+        Rule::ne => BinOp::Ne,
+        Rule::lt => BinOp::Lt,
+        Rule::le => BinOp::Le,
+        Rule::gt => BinOp::Gt,
+        Rule::ge => BinOp::Ge,
+        r => unreachable!("grammar: unexpected operator {r:?}"),
+    }
+}
+
+fn binary(op: BinOp, (lhs, dl): (Expr, usize), (rhs, dr): (Expr, usize)) -> Built {
+    let span = lhs.span.to(rhs.span);
+    node(
+        Expr {
+            kind: ExprKind::Binary {
+                op,
+                lhs: Box::new(lhs),
+                rhs: Box::new(rhs),
+            },
+            span,
+        },
+        dl.max(dr),
+    )
+}
+
+/// A prefix operator (`-x`, `not c`) spanning from the operator to its
+/// operand's end.
+fn unary(kind: fn(Box<Expr>) -> ExprKind, op: Span, (rhs, d): (Expr, usize)) -> Built {
+    let span = op.to(rhs.span);
+    node(
+        Expr {
+            kind: kind(Box::new(rhs)),
+            span,
+        },
+        d,
+    )
 }
 
 fn node(e: Expr, child_depth: usize) -> Built {

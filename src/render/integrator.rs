@@ -23,7 +23,7 @@ use super::stats::RayCounts;
 use crate::accel::World;
 use crate::geometry::rounding::SHADOW_EPSILON;
 use crate::geometry::{DVec3, Ray, offset_ray_origin, surface_epsilon, valid_reflection_normal};
-use crate::scene::{Colour, Material, Scene};
+use crate::scene::{Colour, Material, Scene, pattern};
 
 /// A shadow ray through glass stops being followed after this many
 /// surfaces (it is then taken as blocked): bounded time for any scene.
@@ -83,10 +83,8 @@ impl<'a> Integrator<'a> {
         let Some((mut hit, object)) = self.world.nearest(ray, 0.0, f64::INFINITY) else {
             return (self.miss(ray.dir), f64::INFINITY);
         };
-        let material = &self.scene.materials[hit.material as usize];
-        if material.texture.reads_uv() {
-            hit.uv = object.uv(&hit);
-        }
+        // Material patterns choose here; (u, v) is computed if read.
+        let material = pattern::resolve(&self.scene.materials, &mut hit, |h| object.uv(h));
         // The geometric normal decides the side; the shading normal is kept
         // in its hemisphere.
         let mut ng = hit.geo_normal.normalize_or_zero();
@@ -97,6 +95,9 @@ impl<'a> Integrator<'a> {
         let mut n = hit.normal.normalize_or(ng);
         if n.dot(ng) < 0.0 {
             n = -n;
+        }
+        if let Some(bumps) = &material.normal {
+            n = bumps.perturb(n, ng, hit.local);
         }
         let (p, p_err) = (hit.point, hit.p_error);
         let at = Shading {
@@ -285,10 +286,12 @@ impl<'a> Integrator<'a> {
         let mut t = Colour::ONE;
         let mut from = 0.0;
         for _ in 0..MAX_SHADOW_SURFACES {
-            let Some(hit) = self.world.intersect(ray, from, dist) else {
+            let Some(mut hit) = self.world.intersect(ray, from, dist) else {
                 return t;
             };
-            let Some(glass) = &self.scene.materials[hit.material as usize].refract else {
+            // (u, v) as the shape gave it: shadow rays do not ask for more.
+            let m = pattern::resolve(&self.scene.materials, &mut hit, |h| h.uv);
+            let Some(glass) = &m.refract else {
                 return Colour::ZERO;
             };
             // Leaving: the stretch before was inside; entering: outside.

@@ -10,7 +10,9 @@
 //! material lamp        { emit rgb(1, 0.9, 0.7)  intensity 25 }
 //! ```
 
+use super::pattern::{MaterialPick, NormalPattern};
 use super::{Colour, Texture};
+use std::sync::Arc;
 
 /// Index into [`super::Scene::materials`]. Shapes carry it so that a hit
 /// knows its material even inside CSG (a cut shows the cutter's material).
@@ -36,6 +38,11 @@ pub struct Material {
     pub refract: Option<Dielectric>,
     /// Radiance leaving the front side (colour × intensity); zero: none.
     pub emit: Colour,
+    /// A material pattern: the materials it chooses shade the hit instead
+    /// (see [`super::pattern::resolve`]).
+    pub pick: Option<Arc<MaterialPick>>,
+    /// `normal bumps { … }`: tilts the shading normal.
+    pub normal: Option<Arc<NormalPattern>>,
 }
 
 /// A Phong highlight: k_s c_s (r·v)⁺^e E (n·l)⁺.
@@ -97,6 +104,8 @@ impl Default for Material {
             glossy: None,
             refract: None,
             emit: Colour::ZERO,
+            pick: None,
+            normal: None,
         }
     }
 }

@@ -7,6 +7,7 @@ mod camera;
 mod colour;
 mod light;
 mod material;
+pub mod pattern;
 pub mod texture;
 
 pub use build::{build, build_with, build_with_warnings, is_object};

@@ -1,8 +1,10 @@
 //! Textures: what colour a material has at a hit.
 //!
-//! Surface patterns (`checker`, `image`) read the hit's (u, v); solid
-//! patterns (`checker3d`, `marble`, `wood`) read the hit's point in the
-//! object's own space, so every texture moves with its object.
+//! A plain colour, an image's colours, or a pattern (`super::pattern`)
+//! through a colour map. Surface patterns (`checker`, `image`) read the
+//! hit's (u, v); solid patterns (`checker3d`, `marble`, `wood`, …) read the
+//! hit's point in the object's own space, so every texture moves with its
+//! object.
 //!
 //! ```text
 //! material floor { colour checker   { a white  b rgb(0.2, 0.2, 0.2)  scale 4 } }
@@ -13,102 +15,41 @@
 //! ```
 
 mod image_map;
-mod noise;
+pub(super) mod noise;
 
 pub use image_map::{ImageError, ImageTexture, UvMapping};
 
 use super::Colour;
-use crate::geometry::DVec3;
+use super::pattern::ColourPattern;
 use crate::shapes::Hit;
 use std::sync::Arc;
 
 #[derive(Clone, Debug, PartialEq)]
 pub enum Texture {
     Solid(Colour),
-    /// The course's checker on (u, v): with f(s) = k·s for s ≥ 0 and
-    /// 1 − k·s otherwise, `a` where ⌊f(u)⌋ + ⌊f(v)⌋ is even.
-    Checker {
-        a: Colour,
-        b: Colour,
-        scale: f64,
-    },
-    /// Cubes of side `size` in object space; the one at [0, size)³ is `a`.
-    Checker3d {
-        a: Colour,
-        b: Colour,
-        size: f64,
-    },
+    /// A picture's colours on (u, v).
     Image(Arc<ImageTexture>),
-    /// Veins of `b` through `a` along x, disturbed by turbulence.
-    Marble {
-        a: Colour,
-        b: Colour,
-        scale: f64,
-        turbulence: f64,
-    },
-    /// Rings around the y axis, disturbed by turbulence.
-    Wood {
-        a: Colour,
-        b: Colour,
-        scale: f64,
-        turbulence: f64,
-    },
-}
-
-/// Cell borders are nudged by this fraction of a cell so that a floor at
-/// y = 0 (whose hits land at ±1e-17) does not speckle between two cells.
-const CELL_NUDGE: f64 = 1e-6;
-
-fn course_checker_coordinate(s: f64, k: f64) -> i64 {
-    let f = if s >= 0.0 { k * s } else { 1.0 - k * s };
-    (f + CELL_NUDGE).floor() as i64
+    /// Any pattern through a colour map (`checker`, `marble`, …: see
+    /// [`super::pattern`]).
+    Pattern(Arc<ColourPattern>),
 }
 
 impl Texture {
     /// Whether the texture reads the hit's (u, v), which some shapes
     /// compute only on request ([`crate::shapes::Shape::uv`]).
     pub fn reads_uv(&self) -> bool {
-        matches!(self, Texture::Checker { .. } | Texture::Image(_))
+        match self {
+            Texture::Solid(_) => false,
+            Texture::Image(_) => true,
+            Texture::Pattern(p) => p.pattern.reads_uv(),
+        }
     }
 
     pub fn colour_at(&self, hit: &Hit) -> Colour {
         match self {
             Texture::Solid(c) => *c,
-            Texture::Checker { a, b, scale } => {
-                let i = course_checker_coordinate(hit.uv.x, *scale)
-                    + course_checker_coordinate(hit.uv.y, *scale);
-                if i.rem_euclid(2) == 0 { *a } else { *b }
-            }
-            Texture::Checker3d { a, b, size } => {
-                let c = (hit.local / *size + DVec3::splat(CELL_NUDGE)).floor();
-                let i = c.x as i64 + c.y as i64 + c.z as i64;
-                if i.rem_euclid(2) == 0 { *a } else { *b }
-            }
             Texture::Image(img) => img.sample(hit.uv),
-            Texture::Marble {
-                a,
-                b,
-                scale,
-                turbulence,
-            } => {
-                let p = hit.local * *scale;
-                let s = (p.x + turbulence * noise::turbulence(p, 6)).sin();
-                let t = (0.5 + 0.5 * s).powf(0.6);
-                a.lerp(*b, 1.0 - t)
-            }
-            Texture::Wood {
-                a,
-                b,
-                scale,
-                turbulence,
-            } => {
-                let p = hit.local * *scale;
-                let r = (p.x * p.x + p.z * p.z).sqrt() + turbulence * noise::turbulence(p, 4);
-                let ring = r - r.floor();
-                // Sharp dark late-wood edge, wide light early-wood.
-                let t = ring.powf(3.0);
-                a.lerp(*b, t)
-            }
+            Texture::Pattern(p) => p.colour(hit.local, hit.uv),
         }
     }
 }
@@ -116,68 +57,53 @@ impl Texture {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::DVec2;
+    use crate::geometry::{DVec2, DVec3};
+    use crate::scene::pattern::{Checker, ColourMap, Kind, Marble, Pattern, Wood};
 
-    fn hit_uv(u: f64, v: f64) -> Hit {
+    fn hit(p: DVec3, uv: DVec2) -> Hit {
         Hit {
-            t: 1.0,
-            normal: DVec3::Z,
-            uv: DVec2::new(u, v),
-            local: DVec3::ZERO,
-            material: 0,
-            path: 0,
+            local: p,
+            uv,
             ..Hit::default()
         }
     }
 
-    fn hit_at(p: DVec3) -> Hit {
-        Hit {
-            local: p,
-            ..hit_uv(0.0, 0.0)
-        }
+    fn mapped(kind: Kind, a: Colour, b: Colour, scale: f64, turbulence: f64) -> Texture {
+        Texture::Pattern(Arc::new(ColourPattern {
+            pattern: Pattern {
+                scale: DVec3::splat(scale),
+                turbulence,
+                ..Pattern::new(kind)
+            },
+            map: ColourMap::two(a, b),
+        }))
     }
 
     #[test]
-    fn course_checker_cells() {
-        let (a, b) = (Colour::ONE, Colour::ZERO);
-        let t = Texture::Checker { a, b, scale: 2.0 };
-        assert_eq!(t.colour_at(&hit_uv(0.1, 0.1)), a);
-        assert_eq!(t.colour_at(&hit_uv(0.6, 0.1)), b);
-        assert_eq!(t.colour_at(&hit_uv(0.6, 0.6)), a);
-        // Negative side: f(s) = 1 − k·s, so (−0.1) gives 1.2 → cell 1.
-        assert_eq!(t.colour_at(&hit_uv(-0.1, 0.1)), b);
-    }
-
-    #[test]
-    fn solid_checker_is_light_at_the_origin_cell_and_stable_on_borders() {
-        let (a, b) = (Colour::ONE, Colour::ZERO);
-        let t = Texture::Checker3d { a, b, size: 1.0 };
-        assert_eq!(t.colour_at(&hit_at(DVec3::new(0.5, 0.5, 0.5))), a);
-        assert_eq!(t.colour_at(&hit_at(DVec3::new(1.5, 0.5, 0.5))), b);
-        // A floor at y = 0 hit a hair below zero stays in the same cell.
-        assert_eq!(
-            t.colour_at(&hit_at(DVec3::new(0.5, -1e-15, 0.5))),
-            t.colour_at(&hit_at(DVec3::new(0.5, 1e-15, 0.5)))
+    fn a_checker_gives_exactly_its_two_colours_and_reads_uv() {
+        let (a, b) = (Colour::new(0.9, 0.8, 0.7), Colour::new(0.1, 0.2, 0.3));
+        let t = mapped(
+            Kind::Checker(Checker {
+                scale: DVec2::splat(2.0),
+            }),
+            a,
+            b,
+            1.0,
+            0.0,
         );
+        assert!(t.reads_uv());
+        assert_eq!(t.colour_at(&hit(DVec3::ZERO, DVec2::new(0.1, 0.1))), a);
+        assert_eq!(t.colour_at(&hit(DVec3::ZERO, DVec2::new(0.6, 0.1))), b);
     }
 
     #[test]
     fn marble_and_wood_stay_between_their_colours() {
         let (a, b) = (Colour::new(1.0, 0.9, 0.8), Colour::new(0.1, 0.2, 0.3));
         for t in [
-            Texture::Marble {
-                a,
-                b,
-                scale: 3.0,
-                turbulence: 4.0,
-            },
-            Texture::Wood {
-                a,
-                b,
-                scale: 3.0,
-                turbulence: 0.5,
-            },
+            mapped(Kind::Marble(Marble), a, b, 3.0, 4.0),
+            mapped(Kind::Wood(Wood), a, b, 3.0, 0.5),
         ] {
+            assert!(!t.reads_uv());
             let mut seen = Vec::new();
             for i in 0..200 {
                 let p = DVec3::new(
@@ -185,7 +111,7 @@ mod tests {
                     (i % 7) as f64 * 0.11,
                     (i % 13) as f64 * 0.05,
                 );
-                let c = t.colour_at(&hit_at(p));
+                let c = t.colour_at(&hit(p, DVec2::ZERO));
                 assert!(c.cmpge(b.min(a) - 1e-9).all() && c.cmple(a.max(b) + 1e-9).all());
                 seen.push(c.x);
             }

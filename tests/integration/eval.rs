@@ -209,7 +209,7 @@ fn materials_and_patterns_are_values_too() {
     assert_eq!(s.materials[1].reflect, 0.5);
     assert!(matches!(
         s.materials[2].texture,
-        raytrace::scene::Texture::Checker { .. }
+        raytrace::scene::Texture::Pattern(_)
     ));
 }
 

@@ -555,7 +555,7 @@ fn a_texture_value_keeps_its_block() {
     let s = build("material m { colour checker { a white  b black }  reflect 0.5 }");
     assert!(matches!(
         s.materials[1].texture,
-        raytrace::scene::Texture::Checker { .. }
+        raytrace::scene::Texture::Pattern(_)
     ));
 }
 

@@ -12,6 +12,7 @@ mod lang;
 mod looks;
 mod mesh;
 mod mesh_formats;
+mod patterns;
 mod placement;
 mod render;
 #[path = "../../src/shared_data.rs"]

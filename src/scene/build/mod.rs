@@ -15,6 +15,7 @@
 mod area;
 mod objects;
 mod params;
+mod patterns;
 mod textures;
 
 use super::{
@@ -454,6 +455,28 @@ impl<'p> Builder<'p> {
         }
     }
 
+    /// Reads the optional parameter `name` with `read` and hands the value
+    /// to `set`. False when it was given but wrong (`read` has reported
+    /// it), so a caller can drop the whole block after reading the rest.
+    fn take_into<T>(
+        &mut self,
+        p: &mut Params,
+        name: &str,
+        read: impl FnOnce(&mut Self, &params::Param) -> Option<T>,
+        set: impl FnOnce(T),
+    ) -> bool {
+        let Some(q) = p.take(name) else {
+            return true;
+        };
+        match read(self, &q) {
+            Some(v) => {
+                set(v);
+                true
+            }
+            None => false,
+        }
+    }
+
     // ---- camera, render, ambient, light ----
 
     fn camera(&mut self, kw: &Spanned<String>, block: &Block) {
@@ -746,29 +769,30 @@ impl<'p> Builder<'p> {
             min: 0.0,
             distance: f64::INFINITY,
         };
-        let mut ok = true;
-        if let Some(q) = p.take("samples") {
-            match self.integer(&q.values[0], 1, 1024) {
-                Some(n) => o.samples = n,
-                None => ok = false,
-            }
-        }
-        if let Some(q) = p.take("min") {
-            match self.checked(
-                &q.values[0],
-                |x| (0.0..=1.0).contains(&x),
-                "between 0 and 1",
-            ) {
-                Some(m) => o.min = m,
-                None => ok = false,
-            }
-        }
-        if let Some(q) = p.take("distance") {
-            match self.positive(&q.values[0]) {
-                Some(d) => o.distance = d,
-                None => ok = false,
-            }
-        }
+        let mut ok = self.take_into(
+            &mut p,
+            "samples",
+            |b, q| b.integer(&q.values[0], 1, 1024),
+            |n| o.samples = n,
+        );
+        ok &= self.take_into(
+            &mut p,
+            "min",
+            |b, q| {
+                b.checked(
+                    &q.values[0],
+                    |x| (0.0..=1.0).contains(&x),
+                    "between 0 and 1",
+                )
+            },
+            |m| o.min = m,
+        );
+        ok &= self.take_into(
+            &mut p,
+            "distance",
+            |b, q| b.positive(&q.values[0]),
+            |d| o.distance = d,
+        );
         self.finish("occlusion", p);
         if ok {
             self.scene.occlusion = Some(o);
@@ -991,6 +1015,13 @@ impl<'p> Builder<'p> {
     }
 
     fn material_block(&mut self, block: &Block) -> Option<Material> {
+        if let Some(w) = patterns::material_pattern(&block.items) {
+            let used = 1 + usize::from(w.string.is_some()) + usize::from(w.block.is_some());
+            return self.picking_material(&w, &block.items[used..]);
+        }
+        if self.misspelt_pattern(&block.items) {
+            return None;
+        }
         let mut p = self.params("material", block, &params::MATERIAL);
         let mut m = Material::default();
         let mut ok = true;
@@ -1007,6 +1038,12 @@ impl<'p> Builder<'p> {
                 "between 0 and 1",
             ) {
                 Some(r) => m.reflect = r,
+                None => ok = false,
+            }
+        }
+        if let Some(q) = p.take("normal") {
+            match self.normal_pattern(&q.values) {
+                Some(n) => m.normal = Some(Arc::new(n)),
                 None => ok = false,
             }
         }
@@ -1100,12 +1137,12 @@ impl<'p> Builder<'p> {
         let mut d = super::Dielectric::default();
         let mut ok = true;
         for (name, slot) in [("ior", &mut d.ior), ("outside_ior", &mut d.outside_ior)] {
-            if let Some(q) = p.take(name) {
-                match self.checked(&q.values[0], |x| x > 0.0 && x.is_finite(), "greater than 0") {
-                    Some(v) => *slot = v,
-                    None => ok = false,
-                }
-            }
+            ok &= self.take_into(
+                &mut p,
+                name,
+                |b, q| b.checked(&q.values[0], |x| x > 0.0 && x.is_finite(), "greater than 0"),
+                |v| *slot = v,
+            );
         }
         for (name, slot) in [
             ("filter", &mut d.filter),

@@ -171,7 +171,11 @@ pub const MATERIAL: Schema = Schema {
     own: &[
         pattern_spec(
             "colour",
-            "a colour or a texture (`checker`, `checker3d`, `image`, `marble`, `wood`)",
+            "a colour or a pattern (`checker`, `checker3d`, `gradient`, `noise`, `granite`, `marble`, `wood`, `sectors`, `quadrants`, `image`)",
+        ),
+        pattern_spec(
+            "normal",
+            "a normal pattern (`bumps`, `ripples`, `waves`) and its block",
         ),
         spec("reflect", 1, "a number from 0 to 1"),
         spec("diffuse", 1, "a number, 0 or more"),

@@ -1,4 +1,5 @@
-//! The value of a material's `colour`: a plain colour or a pattern.
+//! The value of a material's `colour`: a plain colour, an image's
+//! colours, or a pattern through a colour map (built in `patterns.rs`).
 //!
 //! ```text
 //! colour rgb(1, 0.8, 0.2)
@@ -9,46 +10,15 @@
 //! colour wood      { a #c8a060  b #704018  scale 6  turbulence 0.5 }
 //! ```
 
-use super::params::{Schema, spec};
-use super::{Builder, Colour, Texture};
+use super::params::{Params, Schema, spec};
+use super::patterns::{ScaleGiven, Written};
+use super::{Builder, Texture};
 use crate::geometry::DVec2;
 use crate::lang::ast::{Block, Item, Span};
 use crate::lang::diagnostics::{Error, did_you_mean};
+use crate::scene::pattern;
 use crate::scene::texture::{ImageTexture, UvMapping};
 use std::sync::Arc;
-
-const PATTERNS: &[&str] = &["checker", "checker3d", "image", "marble", "wood"];
-
-const CHECKER: Schema = Schema {
-    own: &[
-        spec("a", 1, "a colour"),
-        spec("b", 1, "a colour"),
-        spec("scale", 1, "a positive number"),
-    ],
-    object: false,
-    children: false,
-};
-
-const CHECKER3D: Schema = Schema {
-    own: &[
-        spec("a", 1, "a colour"),
-        spec("b", 1, "a colour"),
-        spec("size", 1, "a positive number"),
-    ],
-    object: false,
-    children: false,
-};
-
-const NOISE: Schema = Schema {
-    own: &[
-        spec("a", 1, "a colour"),
-        spec("b", 1, "a colour"),
-        spec("scale", 1, "a positive number"),
-        spec("turbulence", 1, "a number"),
-    ],
-    object: false,
-    children: false,
-};
 
 const IMAGE: Schema = Schema {
     own: &[
@@ -68,15 +38,15 @@ impl Builder<'_> {
     pub(super) fn texture(&mut self, values: &[Item]) -> Option<Texture> {
         let name = match values {
             [single] => match single.as_name() {
-                Some(n) if PATTERNS.contains(&n.node) => n,
+                Some(n) if pattern::NAMES.contains(&n.node) && !single.is_bound_name() => n,
                 _ => return self.colour(single).map(|(c, _)| Texture::Solid(c)),
             },
             [first, ..] => match first.as_name() {
-                Some(n) if PATTERNS.contains(&n.node) => n,
+                Some(n) if pattern::NAMES.contains(&n.node) => n,
                 Some(n) => {
                     let e = Error::new(n.span, format!("unknown texture `{}`", n.node))
                         .label("not a texture")
-                        .maybe_help(did_you_mean(n.node, PATTERNS.iter().copied()));
+                        .maybe_help(did_you_mean(n.node, pattern::NAMES.iter().copied()));
                     self.err(e);
                     return None;
                 }
@@ -84,8 +54,6 @@ impl Builder<'_> {
             },
             [] => return None,
         };
-        let kind = name.node;
-        let span = name.span;
         let string = values.iter().find_map(|v| match v {
             Item::Str { text, content, .. } => Some((text.as_str(), *content)),
             _ => None,
@@ -94,10 +62,17 @@ impl Builder<'_> {
             Item::Block(b) => Some(b),
             _ => None,
         });
-        if kind == "image" {
+        // An image without a map is its own colours.
+        let mapped = block.is_some_and(|b| {
+            b.items.iter().any(|i| {
+                i.as_name()
+                    .is_some_and(|n| matches!(n.node, "a" | "b" | "colour_map" | "material_map"))
+            })
+        });
+        if name.node == "image" && !mapped {
             let Some((file, file_span)) = string else {
                 self.err(
-                    Error::new(span, "`image` needs a file name")
+                    Error::new(name.span, "`image` needs a file name")
                         .label("expected a string after `image`")
                         .help("e.g. `colour image \"earth.png\" { scale <2, 1> }`"),
                 );
@@ -105,77 +80,73 @@ impl Builder<'_> {
             };
             return self.image_texture(file, file_span, block);
         }
-        if let Some((_, s)) = string {
+        self.colour_pattern(&Written {
+            name,
+            string,
+            block,
+        })
+    }
+
+    /// The picture of `image "file" { … }` as a pattern (with a map): the
+    /// file name checked, its (u, v) mapping read from `p`.
+    pub(super) fn image_for_pattern(
+        &mut self,
+        w: &Written,
+        scale: Option<ScaleGiven>,
+        p: &mut Params,
+    ) -> Option<Arc<ImageTexture>> {
+        let Some((file, file_span)) = w.string else {
             self.err(
-                Error::new(s, format!("`{kind}` takes no file name")).label("unexpected string"),
+                Error::new(w.name.span, "`image` needs a file name")
+                    .label("expected a string after `image`")
+                    .help("e.g. `image \"mask.png\" { a black  b white }`"),
             );
             return None;
-        }
-        let empty = Block {
-            items: Vec::new(),
-            span,
         };
-        let block = block.unwrap_or(&empty);
-        let schema = match kind {
-            "checker" => &CHECKER,
-            "checker3d" => &CHECKER3D,
-            _ => &NOISE,
-        };
-        let mut p = self.params(kind, block, schema);
+        let mut mapping = UvMapping::default();
         let mut ok = true;
-        let mut colour_of = |b: &mut Self, name: &str, default: Colour| -> Colour {
-            match p.take(name) {
-                Some(q) => b.colour(&q.values[0]).map(|c| c.0).unwrap_or_else(|| {
-                    ok = false;
-                    default
-                }),
-                None => default,
+        match scale {
+            Some(ScaleGiven::Number(n)) => mapping.scale = DVec2::splat(n),
+            Some(ScaleGiven::Uv(v)) => mapping.scale = v,
+            Some(ScaleGiven::Vector(_)) => ok = false,
+            None => {}
+        }
+        self.uv_mapping_flags(p, &mut mapping, &mut ok);
+        let img = self.load_image(file, file_span, mapping)?;
+        ok.then_some(img)
+    }
+
+    /// `offset`, `swap`, `flip_u`, `flip_v`.
+    fn uv_mapping_flags(&mut self, p: &mut Params, mapping: &mut UvMapping, ok: &mut bool) {
+        if let Some(q) = p.take("offset") {
+            match self.vec2(&q.values[0]) {
+                Some(v) => mapping.offset = v,
+                None => *ok = false,
             }
-        };
-        let a = colour_of(self, "a", Colour::ONE);
-        let b = colour_of(self, "b", Colour::ZERO);
-        let mut number = |b: &mut Self, name: &str, default: f64, positive: bool| -> f64 {
-            match p.take(name) {
-                Some(q) => {
-                    let v = if positive {
-                        b.positive(&q.values[0])
-                    } else {
-                        b.checked(&q.values[0], f64::is_finite, "a finite number")
-                    };
-                    v.unwrap_or_else(|| {
-                        ok = false;
-                        default
-                    })
-                }
-                None => default,
+        }
+        mapping.swap = p.take("swap").is_some();
+        mapping.flip_u = p.take("flip_u").is_some();
+        mapping.flip_v = p.take("flip_v").is_some();
+    }
+
+    fn load_image(
+        &mut self,
+        file: &str,
+        file_span: Span,
+        mapping: UvMapping,
+    ) -> Option<Arc<ImageTexture>> {
+        let path = self.program.sources.dir_of(file_span.file).join(file);
+        match ImageTexture::load(&path, self.env.transfer, mapping) {
+            Ok(img) => Some(Arc::new(img)),
+            Err(e) => {
+                self.err(
+                    Error::new(file_span, format!("cannot use the image `{file}`: {e}"))
+                        .label(format!("looked for {}", path.display()))
+                        .help("an image path is relative to the scene file that names it"),
+                );
+                None
             }
-        };
-        let t = match kind {
-            "checker" => Texture::Checker {
-                a,
-                b,
-                scale: number(self, "scale", 1.0, true),
-            },
-            "checker3d" => Texture::Checker3d {
-                a,
-                b,
-                size: number(self, "size", 1.0, true),
-            },
-            "marble" => Texture::Marble {
-                a,
-                b,
-                scale: number(self, "scale", 1.0, true),
-                turbulence: number(self, "turbulence", 4.0, false),
-            },
-            _ => Texture::Wood {
-                a,
-                b,
-                scale: number(self, "scale", 1.0, true),
-                turbulence: number(self, "turbulence", 0.5, false),
-            },
-        };
-        self.finish(kind, p);
-        ok.then_some(t)
+        }
     }
 
     fn image_texture(
@@ -201,33 +172,15 @@ impl Builder<'_> {
                     None => ok = false,
                 }
             }
-            if let Some(q) = p.take("offset") {
-                match self.vec2(&q.values[0]) {
-                    Some(v) => mapping.offset = v,
-                    None => ok = false,
-                }
-            }
-            mapping.swap = p.take("swap").is_some();
-            mapping.flip_u = p.take("flip_u").is_some();
-            mapping.flip_v = p.take("flip_v").is_some();
+            self.uv_mapping_flags(&mut p, &mut mapping, &mut ok);
             self.finish("image", p);
         }
-        let path = self.program.sources.dir_of(file_span.file).join(file);
-        match ImageTexture::load(&path, self.env.transfer, mapping) {
-            Ok(img) => ok.then(|| Texture::Image(Arc::new(img))),
-            Err(e) => {
-                self.err(
-                    Error::new(file_span, format!("cannot use the image `{file}`: {e}"))
-                        .label(format!("looked for {}", path.display()))
-                        .help("an image path is relative to the scene file that names it"),
-                );
-                None
-            }
-        }
+        let img = self.load_image(file, file_span, mapping)?;
+        ok.then_some(Texture::Image(img))
     }
 
     /// `<u, v>`, or one number for both.
-    fn vec2(&mut self, item: &Item) -> Option<DVec2> {
+    pub(super) fn vec2(&mut self, item: &Item) -> Option<DVec2> {
         use crate::eval::expr::Value;
         match self.value(item, "a 2-vector `<u, v>`")? {
             (Value::Number(n), _) if n.is_finite() => Some(DVec2::splat(n)),

@@ -60,7 +60,7 @@ pub fn noise(p: DVec3) -> f64 {
         hash(a as i64) + zi.rem_euclid(256) as usize,
         hash(a as i64 + 1) + zi.rem_euclid(256) as usize,
     );
-    let b = hash(xi + 1) + yi.rem_euclid(256) as usize;
+    let b = hash(xi.wrapping_add(1)) + yi.rem_euclid(256) as usize;
     let (ba, bb) = (
         hash(b as i64) + zi.rem_euclid(256) as usize,
         hash(b as i64 + 1) + zi.rem_euclid(256) as usize,
@@ -128,6 +128,20 @@ mod tests {
             max = max.max(n.abs());
         }
         assert!(max > 0.3, "noise hardly varies: {max}");
+    }
+
+    #[test]
+    fn huge_and_non_finite_points_are_no_panic() {
+        // A pattern's scale may be as large as the user likes: the lattice
+        // coordinate saturates at i64::MAX and its neighbour wraps.
+        for p in [
+            DVec3::splat(1e300),
+            DVec3::splat(f64::INFINITY),
+            DVec3::splat(f64::NAN),
+        ] {
+            let _ = noise(p);
+            let _ = turbulence(p, 6);
+        }
     }
 
     #[test]

@@ -1,0 +1,68 @@
+//! `checker { a …  b …  scale k }` or `scale <ku, kv>`: squares on the
+//! shape's (u, v), the course's checker. With f(s, k) = k·s for s ≥ 0 and
+//! 1 − k·s below, the value is 0 (`a`) where ⌊f(u, ku)⌋ + ⌊f(v, kv)⌋ is
+//! even and 1 (`b`) where it is odd.
+
+use crate::geometry::DVec2;
+
+/// Cell borders are nudged by this fraction of a cell so that a floor at
+/// y = 0 (whose hits land at ±1e-17) does not speckle between two cells.
+pub(super) const CELL_NUDGE: f64 = 1e-6;
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Checker {
+    /// Cells per unit of u and of v.
+    pub scale: DVec2,
+}
+
+fn course_coordinate(s: f64, k: f64) -> i64 {
+    let f = if s >= 0.0 { k * s } else { 1.0 - k * s };
+    (f + CELL_NUDGE).floor() as i64
+}
+
+impl Checker {
+    pub fn value(&self, uv: DVec2) -> f64 {
+        // Wrapping keeps the parity (2⁶⁴ is even) where a huge scale
+        // saturates both coordinates at i64::MAX.
+        let i = course_coordinate(uv.x, self.scale.x)
+            .wrapping_add(course_coordinate(uv.y, self.scale.y));
+        if i.rem_euclid(2) == 0 { 0.0 } else { 1.0 }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn course_cells() {
+        let c = Checker {
+            scale: DVec2::splat(2.0),
+        };
+        assert_eq!(c.value(DVec2::new(0.1, 0.1)), 0.0);
+        assert_eq!(c.value(DVec2::new(0.6, 0.1)), 1.0);
+        assert_eq!(c.value(DVec2::new(0.6, 0.6)), 0.0);
+        // Negative side: f(s) = 1 − k·s, so −0.1 gives 1.2 → cell 1.
+        assert_eq!(c.value(DVec2::new(-0.1, 0.1)), 1.0);
+    }
+
+    #[test]
+    fn a_huge_scale_is_no_overflow() {
+        let c = Checker {
+            scale: DVec2::splat(1e300),
+        };
+        let v = c.value(DVec2::new(0.5, 0.7));
+        assert!(v == 0.0 || v == 1.0);
+    }
+
+    #[test]
+    fn two_scales_make_rectangles() {
+        // 8 cells across u, 2 along v: u = 0.2 is cell 1, v = 0.2 cell 0.
+        let c = Checker {
+            scale: DVec2::new(8.0, 2.0),
+        };
+        assert_eq!(c.value(DVec2::new(0.2, 0.2)), 1.0);
+        assert_eq!(c.value(DVec2::new(0.2, 0.6)), 0.0);
+        assert_eq!(c.value(DVec2::new(0.1, 0.45)), 0.0);
+    }
+}

@@ -1,0 +1,39 @@
+//! `marble { a …  b …  scale k  turbulence t }` (defaults k 1, t 4):
+//! veins along x. With s = sin(x + t·T(p)), T the six-octave turbulence,
+//! the value is 1 − ((1 + s)/2)^0.6: 0 (`a`) over most of the stone,
+//! rising to 1 (`b`) in narrow veins where s nears −1.
+
+use super::perlin;
+use crate::geometry::DVec3;
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Marble;
+
+impl Marble {
+    /// `p` already scaled; `turbulence` is the pattern's own.
+    pub fn value(&self, p: DVec3, turbulence: f64) -> f64 {
+        let s = (p.x + turbulence * perlin::turbulence(p, 6)).sin();
+        let t = (0.5 + 0.5 * s).powf(0.6);
+        1.0 - t
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn without_turbulence_veins_are_planes_of_x() {
+        let x = 1.5 * std::f64::consts::PI; // sin = −1: the vein's centre
+        let m = Marble;
+        assert!((m.value(DVec3::new(x, 0.3, -2.0), 0.0) - 1.0).abs() < 1e-6);
+        assert_eq!(
+            m.value(DVec3::new(0.5 * std::f64::consts::PI, 9.0, 1.0), 0.0),
+            0.0
+        );
+        assert_eq!(
+            m.value(DVec3::new(1.0, 0.0, 0.0), 0.0),
+            m.value(DVec3::new(1.0, 5.0, -3.0), 0.0)
+        );
+    }
+}

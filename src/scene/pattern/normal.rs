@@ -1,0 +1,178 @@
+//! `normal bumps { amount a  scale k }`, `normal ripples { amount a
+//! scale k  centre c }`, `normal waves { … }`: patterns that tilt the
+//! shading normal, not the colour (the surface stays flat: silhouettes
+//! and shadows are unchanged, and the geometric normal still decides
+//! which side a ray is on).
+//!
+//! Each gives a slope vector g at the object-space point q (placed by
+//! `translate`/`rotate`, then multiplied by `scale`), and the normal
+//! becomes n′ = normalize(n − a·(g − (g·n)n)): tilted along the part of
+//! g in the surface's tangent plane, as a height field's normal is.
+//! - bumps: g = ∇N(q), the gradient of Perlin noise (central differences);
+//! - ripples: g = cos(2π r)·d/r with d = q − c, r = |d|: the slope of
+//!   concentric sine waves around the centre, one per unit of q;
+//! - waves: as ripples, damped with distance: g = cos(2π r)·d / (r (1 + r)).
+//!
+//! n′ is kept at least [`MIN_COS`] into the geometric normal's hemisphere,
+//! so a strong tilt can never turn a surface's shading normal to face away.
+//! `amount 0` leaves n untouched, bit for bit. The slope is computed in the
+//! object's axes: exact for translated and uniformly scaled objects; on a
+//! rotated object the tilt keeps its unrotated directions (the bumps still
+//! move with the object and keep their statistics).
+
+use crate::geometry::{DVec3, Transform};
+use std::f64::consts::TAU;
+
+/// The least cosine between the tilted normal and the geometric one.
+pub const MIN_COS: f64 = 0.05;
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum NormalKind {
+    Bumps,
+    Ripples { centre: DVec3 },
+    Waves { centre: DVec3 },
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct NormalPattern {
+    pub kind: NormalKind,
+    pub amount: f64,
+    pub scale: f64,
+    pub place: Option<Transform>,
+}
+
+/// Central-difference step of the noise gradient, in noise cells.
+const STEP: f64 = 1e-4;
+
+impl NormalPattern {
+    /// The slope vector g at object-space point `p`.
+    pub fn slope(&self, p: DVec3) -> DVec3 {
+        let p = match &self.place {
+            Some(m) => m.inverse_point(p),
+            None => p,
+        };
+        let q = p * self.scale;
+        match &self.kind {
+            NormalKind::Bumps => {
+                let n = super::perlin::noise;
+                let d = |e: DVec3| (n(q + e * STEP) - n(q - e * STEP)) / (2.0 * STEP);
+                DVec3::new(d(DVec3::X), d(DVec3::Y), d(DVec3::Z))
+            }
+            NormalKind::Ripples { centre } | NormalKind::Waves { centre } => {
+                let d = q - *centre;
+                let r = d.length();
+                if r < 1e-12 {
+                    return DVec3::ZERO;
+                }
+                let mut g = (TAU * r).cos() * d / r;
+                if matches!(self.kind, NormalKind::Waves { .. }) {
+                    g /= 1.0 + r;
+                }
+                g
+            }
+        }
+    }
+
+    /// The shading normal `n` (unit, facing the ray) tilted at object-space
+    /// point `p`, kept in the hemisphere of the unit geometric normal `ng`.
+    pub fn perturb(&self, n: DVec3, ng: DVec3, p: DVec3) -> DVec3 {
+        if self.amount == 0.0 {
+            return n;
+        }
+        let g = self.amount * self.slope(p);
+        let tangent = g - g.dot(n) * n;
+        let m = (n - tangent).normalize_or(n);
+        let c = m.dot(ng);
+        if c >= MIN_COS {
+            return m;
+        }
+        // Too low: keep its tangent direction w, at exactly MIN_COS above
+        // the surface (straight up when it has none: m = −ng).
+        let w = (m - c * ng).normalize_or_zero();
+        if w == DVec3::ZERO {
+            return ng;
+        }
+        MIN_COS * ng + (1.0 - MIN_COS * MIN_COS).sqrt() * w
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn bumps(amount: f64) -> NormalPattern {
+        NormalPattern {
+            kind: NormalKind::Bumps,
+            amount,
+            scale: 3.0,
+            place: None,
+        }
+    }
+
+    #[test]
+    fn bumps_vary_stay_above_and_average_to_the_plane_normal() {
+        let b = bumps(0.6);
+        let up = DVec3::Y;
+        let mut sum = DVec3::ZERO;
+        let mut min_dot: f64 = 1.0;
+        let k = 120;
+        for i in 0..k {
+            for j in 0..k {
+                let p = DVec3::new(i as f64 * 0.071, 0.0, j as f64 * 0.067);
+                let n = b.perturb(up, up, p);
+                assert!((n.length() - 1.0).abs() < 1e-12);
+                min_dot = min_dot.min(n.dot(up));
+                sum += n;
+            }
+        }
+        let mean = sum / (k * k) as f64;
+        assert!(min_dot >= MIN_COS - 1e-9, "below the surface: {min_dot}");
+        assert!(min_dot < 0.99, "hardly tilted: {min_dot}");
+        let m = mean.normalize();
+        assert!(m.dot(up) > 0.999, "mean normal {mean}");
+    }
+
+    #[test]
+    fn zero_amount_is_the_same_normal_bit_for_bit() {
+        let n = DVec3::new(0.3, 0.8, 0.1).normalize();
+        assert_eq!(bumps(0.0).perturb(n, n, DVec3::new(0.2, 0.4, 0.9)), n);
+    }
+
+    #[test]
+    fn a_huge_tilt_stays_in_the_geometric_hemisphere() {
+        let b = bumps(500.0);
+        for i in 0..200 {
+            let p = DVec3::new(i as f64 * 0.13, 0.0, 0.3);
+            let n = b.perturb(DVec3::Y, DVec3::Y, p);
+            assert!(n.dot(DVec3::Y) >= MIN_COS - 1e-9, "{n}");
+        }
+    }
+
+    #[test]
+    fn ripples_tilt_radially_and_vanish_on_crests() {
+        let r = NormalPattern {
+            kind: NormalKind::Ripples {
+                centre: DVec3::ZERO,
+            },
+            amount: 0.5,
+            scale: 1.0,
+            place: None,
+        };
+        // At r = 1 (cos 2π = 1) the slope points away from the centre: the
+        // normal leans back towards it.
+        let n = r.perturb(DVec3::Y, DVec3::Y, DVec3::new(1.0, 0.0, 0.0));
+        assert!(n.x < -0.4 && n.z.abs() < 1e-12, "{n}");
+        // At r = 1/4 (cos π/2 = 0) it is flat.
+        let n = r.perturb(DVec3::Y, DVec3::Y, DVec3::new(0.0, 0.0, 0.25));
+        assert!((n - DVec3::Y).length() < 1e-12, "{n}");
+        // Waves are the same, damped by 1 + r.
+        let w = NormalPattern {
+            kind: NormalKind::Waves {
+                centre: DVec3::ZERO,
+            },
+            ..r.clone()
+        };
+        let p = DVec3::new(3.0, 0.0, 0.0);
+        assert!((w.slope(p) * 4.0 - r.slope(p)).length() < 1e-12);
+    }
+}
