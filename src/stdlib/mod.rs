@@ -10,6 +10,8 @@ pub const FILES: &[(&str, &str)] = &[
     ("colours.rt", include_str!("colours.rt")),
     ("metals.rt", include_str!("metals.rt")),
     ("glass.rt", include_str!("glass.rt")),
+    ("woods.rt", include_str!("woods.rt")),
+    ("stones.rt", include_str!("stones.rt")),
 ];
 
 /// The folder an include names to reach the library: `include "std/metals.rt"`.
