@@ -68,3 +68,40 @@ pub fn read_mesh(path: &Path) -> Result<TriangleSoup, MeshFileError> {
         }),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The extension picks the reader in any case; a file named otherwise
+    /// is read as PLY only when it says so.
+    #[test]
+    fn the_extension_picks_the_reader() {
+        let dir = tempfile::tempdir().unwrap();
+        let (p, t) = ply::icosphere(0);
+        let faces: Vec<Vec<u32>> = t.iter().map(|f| f.to_vec()).collect();
+        let ply_text = ply::write_ascii(&p, &faces);
+        let obj_text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+        let cases: &[(&str, &str, Result<usize, &str>)] = &[
+            ("a.ply", &ply_text, Ok(20)),
+            ("a.PLY", &ply_text, Ok(20)),
+            ("bunny", &ply_text, Ok(20)),
+            ("a.Obj", obj_text, Ok(1)),
+            // OBJ text in a file named .ply is refused by the PLY reader.
+            ("b.ply", obj_text, Err("not a PLY")),
+            ("c.stl", obj_text, Err("not an STL")),
+            ("d.off", "OFF\n", Err(".ply, .obj or .stl")),
+        ];
+        for (name, text, want) in cases {
+            let path = dir.path().join(name);
+            std::fs::write(&path, text).unwrap();
+            match (read_mesh(&path), want) {
+                (Ok(m), Ok(n)) => assert_eq!(m.triangles.len(), *n, "{name}"),
+                (Err(e), Err(says)) => assert!(e.message.contains(says), "{name}: {e}"),
+                (got, _) => panic!("{name}: {got:?}"),
+            }
+        }
+        let e = read_mesh(&dir.path().join("missing.obj")).unwrap_err();
+        assert!(e.message.contains("cannot read"), "{e}");
+    }
+}
