@@ -3,7 +3,9 @@
 //! `.rt` text, parsed like any include and counted in the include budgets;
 //! `docs/std.md` lists what each defines, with a swatch of every material.
 //!
-//! Adding a file is one line in [`FILES`].
+//! Adding a file is one line in [`FILES`]; then `scripts/std_swatches.sh`
+//! renders its materials' swatches and docs/std.md gets its section (a
+//! test checks that every material is shown there).
 
 /// Every standard file: its name after `std/`, and its text.
 pub const FILES: &[(&str, &str)] = &[
