@@ -22,7 +22,7 @@ use super::sampler::SampleStream;
 use super::stats::RayCounts;
 use crate::accel::World;
 use crate::geometry::rounding::SHADOW_EPSILON;
-use crate::geometry::{DVec3, Ray, offset_ray_origin, surface_epsilon, valid_reflection_normal};
+use crate::geometry::{DVec3, Ray, offset_ray_origin, valid_reflection_normal};
 use crate::scene::{Colour, Material, Scene};
 
 /// A shadow ray through glass stops being followed after this many
@@ -283,9 +283,10 @@ impl<'a> Integrator<'a> {
             };
         }
         let mut t = Colour::ONE;
-        let mut from = 0.0;
+        let mut ray = *ray;
+        let mut left = dist;
         for _ in 0..MAX_SHADOW_SURFACES {
-            let Some(hit) = self.world.intersect(ray, from, dist) else {
+            let Some(hit) = self.world.intersect(&ray, 0.0, left) else {
                 return t;
             };
             let Some(glass) = &self.scene.materials[hit.material as usize].refract else {
@@ -298,14 +299,23 @@ impl<'a> Integrator<'a> {
             } else {
                 glass.outside_filter
             };
-            t *= dielectric::absorb(filter, hit.t - from);
+            t *= dielectric::absorb(filter, hit.t);
             if t == Colour::ZERO {
                 return t;
             }
-            let p = ray.at(hit.t);
-            from = hit.t + surface_epsilon(p);
+            (ray, left) = Self::through(&ray, &hit, left);
         }
         Colour::ZERO
+    }
+
+    /// A shadow ray continued past the surface it met at `hit`: restarted
+    /// on the far side by the hit's own error bound, as every secondary
+    /// ray is ([`offset_ray_origin`]), with `left`, the length still to go,
+    /// shortened by how far the new origin lies along the ray.
+    fn through(ray: &Ray, hit: &crate::shapes::Hit, left: f64) -> (Ray, f64) {
+        let origin = offset_ray_origin(hit.point, hit.p_error, hit.geo_normal, ray.dir);
+        let gone = (origin - ray.origin).dot(ray.dir);
+        (Ray::new(origin, ray.dir), left - gone)
     }
 }
 
