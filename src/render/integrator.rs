@@ -23,7 +23,7 @@ use super::stats::RayCounts;
 use crate::accel::World;
 use crate::geometry::rounding::SHADOW_EPSILON;
 use crate::geometry::{DVec3, Ray, offset_ray_origin, valid_reflection_normal};
-use crate::scene::{Colour, Material, Scene};
+use crate::scene::{AreaLight, Colour, Material, Scene};
 
 /// A shadow ray through glass stops being followed after this many
 /// surfaces (it is then taken as blocked): bounded time for any scene.
@@ -210,7 +210,7 @@ impl<'a> Integrator<'a> {
             match l.samples {
                 None => {
                     let u = path.stream.next2();
-                    if let Some(s) = area::sample(l, at.lifted, u) {
+                    if let Some(s) = self.area_sample(l, at.lifted, u, path.counts) {
                         add(s, path);
                     }
                 }
@@ -220,7 +220,7 @@ impl<'a> Integrator<'a> {
                     for j in 0..k {
                         for i in 0..k {
                             let u = ((i as f64 + 0.5) / k as f64, (j as f64 + 0.5) / k as f64);
-                            if let Some(mut s) = area::sample(l, at.lifted, u) {
+                            if let Some(mut s) = self.area_sample(l, at.lifted, u, path.counts) {
                                 s.radiance *= w;
                                 add(s, path);
                             }
@@ -245,6 +245,31 @@ impl<'a> Integrator<'a> {
         } else {
             local
         }
+    }
+
+    /// An area light's sample seen from `from`. A clipped light (inside
+    /// CSG) keeps it only where a ray to the point meets an emitting
+    /// surface there from its front: the solid may have cut that part of
+    /// the surface away, or turned it to face inward.
+    fn area_sample(
+        &self,
+        l: &AreaLight,
+        from: DVec3,
+        u: (f64, f64),
+        counts: &mut RayCounts,
+    ) -> Option<LightSample> {
+        let s = area::sample(l, from, u)?;
+        if !l.clipped {
+            return Some(s);
+        }
+        counts.shadow += 1;
+        let at = s.dist / (1.0 - 1e-9);
+        let ray = Ray::new(from, s.dir);
+        let (hit, _) = self
+            .world
+            .nearest(&ray, at * (1.0 - 1e-6), at * (1.0 + 1e-6))?;
+        let m = &self.scene.materials[hit.material as usize];
+        (m.emits() && hit.geo_normal.dot(s.dir) < 0.0).then_some(s)
     }
 
     /// Fresnel reflection plus refraction, with Beer absorption.
