@@ -73,7 +73,15 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         render_with_progress(args, &pool, &scene, &world).map_err(Failure::scene)?;
     target.write(&film, transfer).map_err(Failure::output)?;
     if args.stats {
-        print_stats(parsed, built - parsed, &world, &stats, clock.elapsed());
+        let pixels = film.width as u64 * film.height as u64;
+        print_stats(
+            parsed,
+            built - parsed,
+            &world,
+            &stats,
+            pixels,
+            clock.elapsed(),
+        );
     }
     Ok(())
 }
@@ -231,6 +239,7 @@ fn print_stats(
     build: Duration,
     world: &accel::World,
     stats: &render::RenderStats,
+    pixels: u64,
     total: Duration,
 ) {
     let a = &world.stats;
@@ -267,6 +276,14 @@ fn print_stats(
         r.primary,
         r.reflected,
         r.shadow
+    );
+    // Camera samples per pixel: N² everywhere, more where adaptive
+    // sampling refined a pixel.
+    eprintln!(
+        "pixels     {:>10}  ({:.2} samples each on average, {} refined by adaptive sampling)",
+        pixels,
+        r.primary as f64 / pixels.max(1) as f64,
+        r.refined
     );
     eprintln!(
         "rays/s     {:>10.0}",
