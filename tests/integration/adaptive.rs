@@ -221,3 +221,76 @@ fn adaptive_mistakes_are_diagnosed() {
     let e = err("render { samples 2  adaptive 3 }");
     assert!(e.contains("expected a block"), "{e}");
 }
+
+fn raytrace(args: &[&std::ffi::OsStr]) -> std::process::Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_raytrace"))
+        .args(args)
+        .output()
+        .expect("run raytrace")
+}
+
+#[test]
+fn the_command_line_reports_refined_pixels_and_renders_regions() {
+    let _watchdog = crate::watchdog::start();
+    // A white square on black, 0.4 units a pixel: x and y from −1.2 to 1.2
+    // is pixels 3 to 8 each way, its edges on pixel boundaries. The regular
+    // 2 × 2 samples sit at a quarter and three quarters of a pixel, so no
+    // pixel sees both colours and none is refined.
+    let scene_with = |lo: f64, hi: f64| {
+        format!(
+            "
+camera {{ position <0, 0, 4>  look_at <0, 0, 0>  distance 1  width 1.2  height 1.2 }}
+render {{ width 12  height 12  samples 2  adaptive {{ threshold 0.5  max_samples 5 }} }}
+rectangle {{ bottom_left <{lo}, {lo}, 0>  top_left <{lo}, {hi}, 0>  bottom_right <{hi}, {lo}, 0>  material {{ emit white }} }}
+"
+        )
+    };
+    let (dir, scene) = scene_file(&scene_with(-1.2, 1.2));
+    let run = |scene: &std::path::Path, extra: &[&str], out: &std::path::Path| {
+        let mut args: Vec<&std::ffi::OsStr> =
+            vec![scene.as_os_str(), "-o".as_ref(), out.as_os_str()];
+        args.extend(extra.iter().map(|s| s.as_ref() as &std::ffi::OsStr));
+        raytrace(&args)
+    };
+    let out = dir.path().join("full.png");
+    let o = run(&scene, &["--stats"], &out);
+    assert!(o.status.success(), "{o:?}");
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("144  (4.00 samples each on average, 0 refined"),
+        "{err}"
+    );
+    // Moved by half a pixel (x and y from −1 to 1.4), its edges run
+    // through pixel centres: the border of the 7 × 7 block of pixels it
+    // touches, 24 pixels, has samples on both sides, and each takes 25
+    // more: (144·4 + 24·25)/144 = 8.17 samples a pixel.
+    let (_d2, moved) = scene_file(&scene_with(-1.0, 1.4));
+    let o = run(&moved, &["--stats"], &dir.path().join("moved.png"));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("144  (8.17 samples each on average, 24 refined"),
+        "{err}"
+    );
+    // A region is those pixels of the full picture.
+    let part = dir.path().join("part.png");
+    let o = run(&moved, &["--region", "2,3,5,4"], &part);
+    assert!(o.status.success(), "{o:?}");
+    let full = image::open(dir.path().join("moved.png")).unwrap().to_rgb8();
+    let cut = image::open(&part).unwrap().to_rgb8();
+    assert_eq!(cut.dimensions(), (5, 4));
+    for y in 0..4 {
+        for x in 0..5 {
+            assert_eq!(cut.get_pixel(x, y), full.get_pixel(2 + x, 3 + y));
+        }
+    }
+    // Past the picture, or malformed: a usage error (2), nothing written.
+    let none = dir.path().join("none.png");
+    let o = run(&scene, &["--region", "8,8,5,4"], &none);
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("reaches past the 12x12 picture"), "{err}");
+    let o = run(&scene, &["--region", "1,2,3"], &none);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("four whole numbers"));
+    assert!(!none.exists());
+}
