@@ -528,3 +528,23 @@ fn an_emissive_sphere_inside_csg_lights_where_the_solid_kept_its_surface() {
     );
     assert!((moved.get(1, 1)[0] as f64 - e).abs() < 1e-6 * want);
 }
+
+#[test]
+fn an_emissive_shape_that_cannot_light_is_warned_about() {
+    let _watchdog = crate::watchdog::start();
+    let warnings = |src: &str| {
+        let (_d, path) = scene_file(src);
+        let program = raytrace::lang::load(&path).unwrap();
+        raytrace::scene::build_with_warnings(&program).unwrap().1
+    };
+    let w = warnings("box { min <0, 0, 0>  max <1, 1, 1>  material { emit white } }");
+    assert_eq!(w.len(), 1, "{w:?}");
+    assert!(w[0].contains("emissive `box`") && w[0].contains("lights nothing"));
+    // Inside CSG too; an emissive sphere there lights, and says nothing.
+    let w = warnings(
+        "union { torus { major 1  minor 0.2  material { emit white } }  sphere { radius 0.5  material { emit white } } }",
+    );
+    assert_eq!(w.len(), 1, "{w:?}");
+    assert!(w[0].contains("emissive `torus`"), "{w:?}");
+    assert!(warnings("disc { radius 1  material { emit white } }").is_empty());
+}

@@ -106,9 +106,20 @@ impl Builder<'_> {
             },
             None => None,
         };
-        let Some(local) = local.filter(|_| emit != crate::scene::Colour::ZERO) else {
+        let glows = emit != crate::scene::Colour::ZERO;
+        let Some(local) = local.filter(|_| glows) else {
             if let Some((_, at)) = n {
                 self.samples_unused(at);
+            } else if glows {
+                // Seen, but sending no light: say so rather than leave the
+                // user to wonder why the room stays dark.
+                self.warn(
+                    kw.span,
+                    format!(
+                        "this emissive `{}` glows where it is seen but lights nothing: only spheres, discs and rectangles are area lights (add one, or a `light`, beside it)",
+                        kw.node
+                    ),
+                );
             }
             return;
         };
