@@ -123,3 +123,25 @@ rectangle { bottom_left <-10, -1, 10>  top_left <-10, -1, -10>  bottom_right <2.
         "the edge is in the picture: {bent}"
     );
 }
+
+#[test]
+fn a_thin_tinted_sheet_far_from_the_origin_tints_its_shadow() {
+    let _watchdog = crate::watchdog::start();
+    // A sheet 0.0005 thick whose filter lets no red through, 20 000 units
+    // from the origin, between a floor and the light. A shadow ray must
+    // meet both its faces: stepping past the first by a fixed share of the
+    // coordinates (1e-7 · 20 000 = 0.002) would jump over the second, and
+    // the red would get through.
+    let film = render_src(
+        "
+camera { position <20000, 3, 0>  look_at <20000, 0, 0>  up <0, 0, -1>  fov 30 }
+render { width 3  height 3  gamma linear }
+light { position <20000, 50, 0> }
+plane { normal <0, 1, 0>  material { colour rgb(1, 1, 1) } }
+box { min <19990, 10, -10>  max <20010, 10.0005, 10>  material { refract { ior 1.5  filter rgb(0, 1, 1) } } }
+",
+    );
+    let p = film.get(1, 1);
+    assert_eq!(p[0], 0.0, "{p:?}");
+    assert!(p[1] > 0.999 && p[2] > 0.999, "{p:?}");
+}
