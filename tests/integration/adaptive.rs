@@ -271,6 +271,17 @@ rectangle {{ bottom_left <{lo}, {lo}, 0>  top_left <{lo}, {hi}, 0>  bottom_right
         err.contains("144  (8.17 samples each on average, 24 refined"),
         "{err}"
     );
+    // `--samples 5` reaches `max_samples`: nothing left to refine.
+    let o = run(
+        &moved,
+        &["--stats", "--samples", "5"],
+        &dir.path().join("five.png"),
+    );
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("144  (25.00 samples each on average, 0 refined"),
+        "{err}"
+    );
     // A region is those pixels of the full picture.
     let part = dir.path().join("part.png");
     let o = run(&moved, &["--region", "2,3,5,4"], &part);
