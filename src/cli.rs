@@ -52,6 +52,12 @@ pub struct Args {
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16))]
     pub samples: Option<u32>,
 
+    /// Render only the rectangle X,Y,W,H of the picture (pixels, from the
+    /// top-left corner; it must lie inside the picture): the image is W × H
+    /// and holds exactly those pixels of the full picture.
+    #[arg(long, value_name = "X,Y,W,H", value_parser = parse_region)]
+    pub region: Option<crate::render::Region>,
+
     /// Worker threads, 1 to 256 (default: one per core).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=MAX_THREADS as i64))]
     pub threads: Option<u32>,
@@ -132,6 +138,30 @@ impl Args {
             },
         })
     }
+}
+
+/// `X,Y,W,H` as four whole numbers, W and H at least 1.
+fn parse_region(s: &str) -> Result<crate::render::Region, String> {
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    let [x, y, w, h] = parts[..] else {
+        return Err(format!(
+            "`{s}`: write four whole numbers X,Y,W,H, e.g. 0,0,100,50"
+        ));
+    };
+    let num = |t: &str| {
+        t.parse::<u32>()
+            .map_err(|_| format!("`{t}` in `{s}` is not a whole number of pixels"))
+    };
+    let (x, y, width, height) = (num(x)?, num(y)?, num(w)?, num(h)?);
+    if width == 0 || height == 0 {
+        return Err(format!("`{s}`: the width and height must be at least 1"));
+    }
+    Ok(crate::render::Region {
+        x,
+        y,
+        width,
+        height,
+    })
 }
 
 /// What kind of failure ended the program: its exit status.
