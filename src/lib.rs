@@ -190,30 +190,20 @@ fn check_size(args: &Args, settings: &scene::RenderSettings) -> Result<()> {
 /// it, or all of it.
 fn picture_region(args: &Args, settings: &scene::RenderSettings) -> Result<render::Region> {
     let (w, h) = (settings.width, settings.height);
-    let Some(r) = args.region else {
-        return Ok(render::Region {
+    match args.region {
+        None => Ok(render::Region {
             x: 0,
             y: 0,
             width: w,
             height: h,
-        });
-    };
-    let (x1, y1) = (r.x as u64 + r.width as u64, r.y as u64 + r.height as u64);
-    if x1 > w as u64 || y1 > h as u64 {
-        return Err(miette::miette!(
-            help = format!(
-                "pixels run from 0,0 to {},{}: shrink the region",
-                w - 1,
-                h - 1
-            ),
-            "the region {},{},{},{} reaches past the {w}x{h} picture",
-            r.x,
-            r.y,
-            r.width,
-            r.height
-        ));
+        }),
+        Some(r) => r.resolve(w, h).map_err(|e| {
+            miette::miette!(
+                help = "X0,X1,Y0,Y1: columns X0 to X1 and rows Y0 to Y1, X1 and Y1 not included",
+                "{e}"
+            )
+        }),
     }
-    Ok(r)
 }
 
 /// The render's worker threads, started before any work so that a refusal

@@ -284,7 +284,7 @@ rectangle {{ bottom_left <{lo}, {lo}, 0>  top_left <{lo}, {hi}, 0>  bottom_right
     );
     // A region is those pixels of the full picture.
     let part = dir.path().join("part.png");
-    let o = run(&moved, &["--region", "2,3,5,4"], &part);
+    let o = run(&moved, &["--region", "2,7,3,7"], &part);
     assert!(o.status.success(), "{o:?}");
     let full = image::open(dir.path().join("moved.png")).unwrap().to_rgb8();
     let cut = image::open(&part).unwrap().to_rgb8();
@@ -296,12 +296,30 @@ rectangle {{ bottom_left <{lo}, {lo}, 0>  top_left <{lo}, {hi}, 0>  bottom_right
     }
     // Past the picture, or malformed: a usage error (2), nothing written.
     let none = dir.path().join("none.png");
-    let o = run(&scene, &["--region", "8,8,5,4"], &none);
+    let o = run(&scene, &["--region", "8,13,8,12"], &none);
     assert_eq!(o.status.code(), Some(2));
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("reaches past the 12x12 picture"), "{err}");
     let o = run(&scene, &["--region", "1,2,3"], &none);
     assert_eq!(o.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&o.stderr).contains("four whole numbers"));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("four bounds"));
+    // Reversed or empty bounds are refused, never rendered as nothing.
+    for bad in ["5,2,0,4", "3,3,0,4", "0.5,0.25,0,1"] {
+        let o = run(&scene, &["--region", bad], &none);
+        assert_eq!(o.status.code(), Some(2), "{bad}");
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(err.contains("is empty"), "{bad}: {err}");
+    }
+    // Fractions: the right half, rows 0.25..0.75, are the full picture's.
+    let half = dir.path().join("half.png");
+    let o = run(&moved, &["--region", "0.5,1,0.25,0.75"], &half);
+    assert!(o.status.success(), "{o:?}");
+    let cut = image::open(&half).unwrap().to_rgb8();
+    assert_eq!(cut.dimensions(), (6, 6));
+    for y in 0..6 {
+        for x in 0..6 {
+            assert_eq!(cut.get_pixel(x, y), full.get_pixel(6 + x, 3 + y));
+        }
+    }
     assert!(!none.exists());
 }
