@@ -94,10 +94,14 @@ impl<'a> Integrator<'a> {
         if !front {
             ng = -ng;
         }
-        let mut n = hit.normal.normalize_or(ng);
-        if n.dot(ng) < 0.0 {
-            n = -n;
-        }
+        // Most shapes have no shading normal of their own (the two normals
+        // are one vector): then n is ng, as the general route would give.
+        let n = if hit.normal == hit.geo_normal {
+            ng
+        } else {
+            let n = hit.normal.normalize_or(ng);
+            if n.dot(ng) < 0.0 { -n } else { n }
+        };
         let (p, p_err) = (hit.point, hit.p_error);
         let at = Shading {
             p,

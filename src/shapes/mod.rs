@@ -96,6 +96,12 @@ impl Hit {
             ..self
         }
     }
+
+    /// [`Hit::flipped`] in place (no copy of the whole hit).
+    pub fn flip(&mut self) {
+        self.normal = -self.normal;
+        self.geo_normal = -self.geo_normal;
+    }
 }
 
 /// The error bound of `ray.at(t)` from rounding alone (t taken as exact):
