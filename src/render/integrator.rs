@@ -22,7 +22,7 @@ use super::sampler::SampleStream;
 use super::stats::RayCounts;
 use crate::accel::World;
 use crate::geometry::rounding::SHADOW_EPSILON;
-use crate::geometry::{DVec3, Ray, offset_ray_origin, valid_reflection_normal};
+use crate::geometry::{DVec3, Ray, offset_along_unit, offset_ray_origin, valid_reflection_normal};
 use crate::scene::{AreaLight, Colour, Material, Scene, pattern};
 
 /// A shadow ray through glass stops being followed after this many
@@ -59,7 +59,7 @@ impl<'a> Integrator<'a> {
     /// that `dir` goes to (`offset_ray_origin`, docs/architecture.md,
     /// "Rounding error and ray offsets"); refracted rays so start on the far side.
     fn spawn_origin(at: &Shading, dir: DVec3) -> DVec3 {
-        offset_ray_origin(at.p, at.p_err, at.ng, dir)
+        offset_along_unit(at.p, at.p_err, at.ng_offset, dir)
     }
 
     /// A secondary ray from the shading point along unit `dir`.
@@ -92,21 +92,29 @@ impl<'a> Integrator<'a> {
         if !front {
             ng = -ng;
         }
-        let mut n = hit.normal.normalize_or(ng);
-        if n.dot(ng) < 0.0 {
-            n = -n;
-        }
+        // Most shapes have no shading normal of their own (the two normals
+        // are one vector): then n is ng, as the general route would give.
+        let mut n = if hit.normal == hit.geo_normal {
+            ng
+        } else {
+            let n = hit.normal.normalize_or(ng);
+            if n.dot(ng) < 0.0 { -n } else { n }
+        };
         if let Some(bumps) = &material.normal {
             n = bumps.perturb(n, ng, hit.local);
         }
         let (p, p_err) = (hit.point, hit.p_error);
+        // What `offset_ray_origin` would make of ng, once for every ray
+        // this point spawns.
+        let ng_offset = ng.normalize_or_zero();
         let at = Shading {
             p,
             p_err,
             ng,
+            ng_offset,
             n,
             d: ray.dir,
-            lifted: offset_ray_origin(p, p_err, ng, ng),
+            lifted: offset_along_unit(p, p_err, ng_offset, ng),
             front,
         };
         let c = self.shade(material, &hit, &at, depth, path);
@@ -354,6 +362,9 @@ struct Shading {
     p_err: DVec3,
     /// Unit geometric normal facing the ray.
     ng: DVec3,
+    /// `ng.normalize_or_zero()`: the normal the ray offsets use (the
+    /// same to the bit as `offset_ray_origin` normalising `ng` itself).
+    ng_offset: DVec3,
     /// Unit normal facing the ray.
     n: DVec3,
     /// The incoming ray's unit direction.
