@@ -52,6 +52,14 @@ pub struct Args {
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16))]
     pub samples: Option<u32>,
 
+    /// Render only the columns x0..x1 and rows y0..y1 of the picture:
+    /// whole pixels from the top-left corner (x1 and y1 not included), or
+    /// fractions of the width and height when any bound has a `.`
+    /// (`0,0.5,0,1` is the left half). The image holds exactly those
+    /// pixels of the full picture.
+    #[arg(long, value_name = "X0,X1,Y0,Y1", value_parser = parse_region)]
+    pub region: Option<RegionArg>,
+
     /// Worker threads, 1 to 256 (default: one per core).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=MAX_THREADS as i64))]
     pub threads: Option<u32>,
@@ -134,6 +142,87 @@ impl Args {
     }
 }
 
+/// `--region` as written: the picture's size is known only once the scene
+/// is read, so fractions are turned into pixels by [`RegionArg::resolve`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum RegionArg {
+    /// Whole pixels: x0, x1, y0, y1 (x1 and y1 not included).
+    Pixels([u32; 4]),
+    /// Fractions of the width and height, each in [0, 1].
+    Fractions([f64; 4]),
+}
+
+impl RegionArg {
+    /// The pixels of a `width` × `height` picture this region covers;
+    /// an error that says why when it is empty or reaches past the picture.
+    pub fn resolve(self, width: u32, height: u32) -> Result<crate::render::Region, String> {
+        let [x0, x1, y0, y1] = match self {
+            RegionArg::Pixels(b) => b.map(u64::from),
+            RegionArg::Fractions(f) => {
+                // Rounded to the nearest pixel edge, so tiles of 1/3 and 2/3
+                // meet without a gap or an overlap.
+                let at = |t: f64, n: u32| (t * n as f64).round() as u64;
+                [
+                    at(f[0], width),
+                    at(f[1], width),
+                    at(f[2], height),
+                    at(f[3], height),
+                ]
+            }
+        };
+        let shown = match self {
+            RegionArg::Pixels(_) => format!("{x0},{x1},{y0},{y1}"),
+            RegionArg::Fractions(_) => format!("{x0},{x1},{y0},{y1} (in pixels)"),
+        };
+        if x1 > width as u64 || y1 > height as u64 {
+            return Err(format!(
+                "the region {shown} reaches past the {width}x{height} picture: columns run \
+                 to {width} and rows to {height}"
+            ));
+        }
+        if x0 >= x1 || y0 >= y1 {
+            return Err(format!(
+                "the region {shown} is empty: x0 must be less than x1 and y0 less than y1"
+            ));
+        }
+        Ok(crate::render::Region {
+            x: x0 as u32,
+            y: y0 as u32,
+            width: (x1 - x0) as u32,
+            height: (y1 - y0) as u32,
+        })
+    }
+}
+
+/// `X0,X1,Y0,Y1`: four whole numbers of pixels, or four fractions in
+/// [0, 1] when any of them has a `.`.
+fn parse_region(s: &str) -> Result<RegionArg, String> {
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    let [_, _, _, _] = parts[..] else {
+        return Err(format!(
+            "`{s}`: write four bounds X0,X1,Y0,Y1, e.g. 0,100,0,50 (pixels) or 0,0.5,0,1 (fractions)"
+        ));
+    };
+    if parts.iter().any(|t| t.contains('.')) {
+        let mut f = [0.0; 4];
+        for (slot, t) in f.iter_mut().zip(&parts) {
+            *slot = t
+                .parse::<f64>()
+                .ok()
+                .filter(|x| (0.0..=1.0).contains(x))
+                .ok_or_else(|| format!("`{t}` in `{s}` is not a fraction from 0 to 1"))?;
+        }
+        return Ok(RegionArg::Fractions(f));
+    }
+    let mut b = [0u32; 4];
+    for (slot, t) in b.iter_mut().zip(&parts) {
+        *slot = t
+            .parse::<u32>()
+            .map_err(|_| format!("`{t}` in `{s}` is not a whole number of pixels"))?;
+    }
+    Ok(RegionArg::Pixels(b))
+}
+
 /// What kind of failure ended the program: its exit status.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Exit {
@@ -186,5 +275,43 @@ impl Failure {
 impl std::fmt::Debug for Failure {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(f, "{:?}", self.report)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fractional_regions_tile_the_picture_exactly_once() {
+        // Thirds of 100 columns round to 0..33, 33..67, 67..100: every
+        // column in exactly one tile, whatever the rounding.
+        for n in [2u32, 3, 7] {
+            let mut next = 0;
+            for i in 0..n {
+                let f = |k: u32| k as f64 / n as f64;
+                let r = parse_region(&format!("{:.17},{:.17},0.0,1.0", f(i), f(i + 1)))
+                    .unwrap()
+                    .resolve(100, 10)
+                    .unwrap();
+                assert_eq!(r.x, next, "tile {i} of {n}");
+                next = r.x + r.width;
+                assert_eq!((r.y, r.height), (0, 10));
+            }
+            assert_eq!(next, 100);
+        }
+    }
+
+    #[test]
+    fn pixel_regions_are_half_open_and_checked() {
+        let r = parse_region("2,7,3,7").unwrap().resolve(12, 12).unwrap();
+        assert_eq!((r.x, r.y, r.width, r.height), (2, 3, 5, 4));
+        let whole = parse_region("0,12,0,12").unwrap().resolve(12, 12).unwrap();
+        assert_eq!((whole.width, whole.height), (12, 12));
+        assert!(parse_region("0,13,0,12").unwrap().resolve(12, 12).is_err());
+        assert!(parse_region("4,4,0,12").unwrap().resolve(12, 12).is_err());
+        assert!(parse_region("0,1.5,0,1").is_err());
+        assert!(parse_region("0,-1,0,1").is_err());
+        assert!(parse_region("a,1,0,1").is_err());
     }
 }

@@ -66,16 +66,25 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     let Some(path) = &args.output else {
         return Ok(());
     };
-    let (w, h) = (scene.settings.width, scene.settings.height);
-    let target = output::Target::prepare(path, w, h, &inputs(&program)).map_err(Failure::output)?;
+    let region = picture_region(args, &scene.settings).map_err(Failure::usage)?;
+    let target = output::Target::prepare(path, region.width, region.height, &inputs(&program))
+        .map_err(Failure::output)?;
     let pool = thread_pool(args).map_err(Failure::system)?;
     let transfer = scene.settings.transfer;
     let world = accel::World::build(std::mem::take(&mut scene.objects));
     let (film, stats) =
-        render_with_progress(args, &pool, &scene, &world).map_err(Failure::scene)?;
+        render_with_progress(args, &pool, &scene, &world, region).map_err(Failure::scene)?;
     target.write(&film, transfer).map_err(Failure::output)?;
     if args.stats {
-        print_stats(parsed, built - parsed, &world, &stats, clock.elapsed());
+        let pixels = film.width as u64 * film.height as u64;
+        print_stats(
+            parsed,
+            built - parsed,
+            &world,
+            &stats,
+            pixels,
+            clock.elapsed(),
+        );
     }
     Ok(())
 }
@@ -179,6 +188,26 @@ fn check_size(args: &Args, settings: &scene::RenderSettings) -> Result<()> {
     Ok(())
 }
 
+/// The part of the picture to render: `--region`, which must lie inside
+/// it, or all of it.
+fn picture_region(args: &Args, settings: &scene::RenderSettings) -> Result<render::Region> {
+    let (w, h) = (settings.width, settings.height);
+    match args.region {
+        None => Ok(render::Region {
+            x: 0,
+            y: 0,
+            width: w,
+            height: h,
+        }),
+        Some(r) => r.resolve(w, h).map_err(|e| {
+            miette::miette!(
+                help = "X0,X1,Y0,Y1: columns X0 to X1 and rows Y0 to Y1, X1 and Y1 not included",
+                "{e}"
+            )
+        }),
+    }
+}
+
 /// The render's worker threads, started before any work so that a refusal
 /// (the system's thread limit) costs nothing.
 fn thread_pool(args: &Args) -> Result<rayon::ThreadPool> {
@@ -201,13 +230,12 @@ fn render_with_progress(
     pool: &rayon::ThreadPool,
     scene: &scene::Scene,
     world: &accel::World,
+    region: render::Region,
 ) -> Result<(render::Film, render::RenderStats)> {
     // The bar stays hidden for quick renders and when stderr is not a
     // terminal (indicatif's stderr target hides itself then).
-    let bar = ProgressBar::with_draw_target(
-        Some(scene.settings.height as u64),
-        ProgressDrawTarget::hidden(),
-    );
+    let bar =
+        ProgressBar::with_draw_target(Some(region.height as u64), ProgressDrawTarget::hidden());
     bar.set_style(
         ProgressStyle::with_template("{bar:40} {percent:>3}% rows, {elapsed} elapsed, {eta} left")
             .expect("template is valid"),
@@ -223,7 +251,7 @@ fn render_with_progress(
     let opts = render::RenderOptions {
         progress: Some(&progress),
     };
-    let out = pool.install(|| render::render(scene, world, &opts));
+    let out = pool.install(|| render::render_region(scene, world, &opts, region));
     bar.finish_and_clear();
     out.ok_or_else(|| miette::miette!("the camera has no valid frame"))
 }
@@ -233,6 +261,7 @@ fn print_stats(
     build: Duration,
     world: &accel::World,
     stats: &render::RenderStats,
+    pixels: u64,
     total: Duration,
 ) {
     let a = &world.stats;
@@ -269,6 +298,14 @@ fn print_stats(
         r.primary,
         r.reflected,
         r.shadow
+    );
+    // Camera samples per pixel: N² everywhere, more where adaptive
+    // sampling refined a pixel.
+    eprintln!(
+        "pixels     {:>10}  ({:.2} samples each on average, {} refined by adaptive sampling)",
+        pixels,
+        r.primary as f64 / pixels.max(1) as f64,
+        r.refined
     );
     eprintln!(
         "rays/s     {:>10.0}",

@@ -9,7 +9,7 @@ mod transform;
 pub use aabb::Aabb;
 pub use glam::{DMat3, DMat4, DVec2, DVec3};
 pub use ray::Ray;
-pub use rounding::{offset_ray_origin, shadow_ray_to, valid_reflection_normal};
+pub use rounding::{offset_along_unit, offset_ray_origin, shadow_ray_to, valid_reflection_normal};
 pub use transform::Transform;
 
 /// The old fixed offset, relative to the size of the coordinates. It does

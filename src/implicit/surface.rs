@@ -35,6 +35,10 @@ pub struct ImplicitSurface {
     /// cuts the solid, as the crossings always do (see
     /// [`ImplicitSurface::solid_in_box`]).
     solid_in_box: bool,
+    /// In a finite box, the rounding noise of the polynomial's value
+    /// anywhere in it (see [`ImplicitSurface::root_error`]): the same for
+    /// every hit, so worked out once here rather than per hit.
+    box_noise: f64,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -56,12 +60,19 @@ impl ImplicitSurface {
                 None => (Aabb::INFINITE, BoundSource::Unbounded),
             },
         };
+        let box_noise = if bounds.is_finite() {
+            let corner = bounds.min.abs().max(bounds.max.abs());
+            noise(&equation, corner)
+        } else {
+            0.0
+        };
         ImplicitSurface {
             equation,
             bounds,
             material,
             source,
             solid_in_box: false,
+            box_noise,
         }
     }
 
@@ -158,14 +169,16 @@ impl ImplicitSurface {
     }
 
     fn hit_at(&self, ray: &Ray, t: f64, p: DVec3) -> Hit {
-        let normal = self.normal_at(p, ray.dir);
+        // One gradient serves both the normal and the error bound.
+        let g = self.equation.gradient(p);
+        let normal = self.normal_at(g, p, ray.dir);
         Hit {
             t,
             normal,
             uv: DVec2::ZERO,
             local: p,
             point: p,
-            p_error: self.root_error(ray, t, p),
+            p_error: self.root_error(ray, t, p, g.length()),
             geo_normal: normal,
             material: self.material,
             path: 0,
@@ -183,22 +196,19 @@ impl ImplicitSurface {
     /// anywhere in a shell of thickness noise/|∇f| around the surface, and
     /// so may a secondary ray's. Where the gradient nearly vanishes (the
     /// heart's seam) that shell is thick; it is capped at 1e-6 of the
-    /// box's diagonal (of 1 + |p| unbounded).
-    fn root_error(&self, ray: &Ray, t: f64, p: DVec3) -> DVec3 {
-        let (along, cap, reach) = if self.bounds.is_finite() {
+    /// box's diagonal (of 1 + |p| unbounded). `slope` is |∇f| at `p`.
+    fn root_error(&self, ray: &Ray, t: f64, p: DVec3, slope: f64) -> DVec3 {
+        let (along, cap, noise) = if self.bounds.is_finite() {
             let diag = self.bounds.extent().length();
-            let corner = self.bounds.min.abs().max(self.bounds.max.abs());
-            (4e-13 * diag, 1e-6 * diag, corner)
+            (4e-13 * diag, 1e-6 * diag, self.box_noise)
         } else {
             let size = 1.0 + p.abs().max_element();
             (
                 4e-13 * (1.0 + t.abs()) * ray.dir.length(),
                 1e-6 * size,
-                DVec3::splat(2.0 * size),
+                noise(&self.equation, DVec3::splat(2.0 * size)),
             )
         };
-        let noise = gamma(4 * self.equation.degree().max(1)) * self.equation.magnitude(reach);
-        let slope = self.equation.gradient(p).length();
         let shell = if slope > 0.0 { noise / slope } else { cap };
         let rounding = gamma(16) * (ray.origin.abs() + (t * ray.dir).abs());
         DVec3::splat(along + shell.min(cap)) + rounding
@@ -237,8 +247,8 @@ impl ImplicitSurface {
         }
     }
 
-    fn normal_at(&self, p: DVec3, dir: DVec3) -> DVec3 {
-        let mut g = self.equation.gradient(p);
+    /// The outward normal at `p` from the gradient `g` there.
+    fn normal_at(&self, mut g: DVec3, p: DVec3, dir: DVec3) -> DVec3 {
         if let Some(tree) = &self.equation.branch {
             // The eliminated polynomial may be negative outside: orient by the
             // written expression's own gradient where it exists.
@@ -256,6 +266,13 @@ impl ImplicitSurface {
             -dir
         }
     }
+}
+
+/// The rounding noise of the polynomial's value at points within `reach`
+/// of the origin (per coordinate): γ₄ₙ (n the degree) times the magnitude
+/// of the terms it sums.
+fn noise(equation: &Equation, reach: DVec3) -> f64 {
+    gamma(4 * equation.degree().max(1)) * equation.magnitude(reach)
 }
 
 /// The outward normal of the face of `b` nearest to `p` (a point on the

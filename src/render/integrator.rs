@@ -22,8 +22,8 @@ use super::sampler::SampleStream;
 use super::stats::RayCounts;
 use crate::accel::World;
 use crate::geometry::rounding::SHADOW_EPSILON;
-use crate::geometry::{DVec3, Ray, offset_ray_origin, surface_epsilon, valid_reflection_normal};
-use crate::scene::{Colour, Material, Scene, pattern};
+use crate::geometry::{DVec3, Ray, offset_along_unit, offset_ray_origin, valid_reflection_normal};
+use crate::scene::{AreaLight, Colour, Material, Scene, pattern};
 
 /// A shadow ray through glass stops being followed after this many
 /// surfaces (it is then taken as blocked): bounded time for any scene.
@@ -59,7 +59,7 @@ impl<'a> Integrator<'a> {
     /// that `dir` goes to (`offset_ray_origin`, docs/architecture.md,
     /// "Rounding error and ray offsets"); refracted rays so start on the far side.
     fn spawn_origin(at: &Shading, dir: DVec3) -> DVec3 {
-        offset_ray_origin(at.p, at.p_err, at.ng, dir)
+        offset_along_unit(at.p, at.p_err, at.ng_offset, dir)
     }
 
     /// A secondary ray from the shading point along unit `dir`.
@@ -92,21 +92,29 @@ impl<'a> Integrator<'a> {
         if !front {
             ng = -ng;
         }
-        let mut n = hit.normal.normalize_or(ng);
-        if n.dot(ng) < 0.0 {
-            n = -n;
-        }
+        // Most shapes have no shading normal of their own (the two normals
+        // are one vector): then n is ng, as the general route would give.
+        let mut n = if hit.normal == hit.geo_normal {
+            ng
+        } else {
+            let n = hit.normal.normalize_or(ng);
+            if n.dot(ng) < 0.0 { -n } else { n }
+        };
         if let Some(bumps) = &material.normal {
             n = bumps.perturb(n, ng, hit.local);
         }
         let (p, p_err) = (hit.point, hit.p_error);
+        // What `offset_ray_origin` would make of ng, once for every ray
+        // this point spawns.
+        let ng_offset = ng.normalize_or_zero();
         let at = Shading {
             p,
             p_err,
             ng,
+            ng_offset,
             n,
             d: ray.dir,
-            lifted: offset_ray_origin(p, p_err, ng, ng),
+            lifted: offset_along_unit(p, p_err, ng_offset, ng),
             front,
         };
         let c = self.shade(material, &hit, &at, depth, path);
@@ -211,7 +219,7 @@ impl<'a> Integrator<'a> {
             match l.samples {
                 None => {
                     let u = path.stream.next2();
-                    if let Some(s) = area::sample(l, at.lifted, u) {
+                    if let Some(s) = self.area_sample(l, at.lifted, u, path.counts) {
                         add(s, path);
                     }
                 }
@@ -221,7 +229,7 @@ impl<'a> Integrator<'a> {
                     for j in 0..k {
                         for i in 0..k {
                             let u = ((i as f64 + 0.5) / k as f64, (j as f64 + 0.5) / k as f64);
-                            if let Some(mut s) = area::sample(l, at.lifted, u) {
+                            if let Some(mut s) = self.area_sample(l, at.lifted, u, path.counts) {
                                 s.radiance *= w;
                                 add(s, path);
                             }
@@ -246,6 +254,31 @@ impl<'a> Integrator<'a> {
         } else {
             local
         }
+    }
+
+    /// An area light's sample seen from `from`. A clipped light (inside
+    /// CSG) keeps it only where a ray to the point meets an emitting
+    /// surface there from its front: the solid may have cut that part of
+    /// the surface away, or turned it to face inward.
+    fn area_sample(
+        &self,
+        l: &AreaLight,
+        from: DVec3,
+        u: (f64, f64),
+        counts: &mut RayCounts,
+    ) -> Option<LightSample> {
+        let s = area::sample(l, from, u)?;
+        if !l.clipped {
+            return Some(s);
+        }
+        counts.shadow += 1;
+        let at = s.dist / (1.0 - 1e-9);
+        let ray = Ray::new(from, s.dir);
+        let (hit, _) = self
+            .world
+            .nearest(&ray, at * (1.0 - 1e-6), at * (1.0 + 1e-6))?;
+        let m = &self.scene.materials[hit.material as usize];
+        (m.emits() && hit.geo_normal.dot(s.dir) < 0.0).then_some(s)
     }
 
     /// Fresnel reflection plus refraction, with Beer absorption.
@@ -284,9 +317,10 @@ impl<'a> Integrator<'a> {
             };
         }
         let mut t = Colour::ONE;
-        let mut from = 0.0;
+        let mut ray = *ray;
+        let mut left = dist;
         for _ in 0..MAX_SHADOW_SURFACES {
-            let Some(mut hit) = self.world.intersect(ray, from, dist) else {
+            let Some(mut hit) = self.world.intersect(&ray, 0.0, left) else {
                 return t;
             };
             // (u, v) as the shape gave it: shadow rays do not ask for more.
@@ -301,14 +335,23 @@ impl<'a> Integrator<'a> {
             } else {
                 glass.outside_filter
             };
-            t *= dielectric::absorb(filter, hit.t - from);
+            t *= dielectric::absorb(filter, hit.t);
             if t == Colour::ZERO {
                 return t;
             }
-            let p = ray.at(hit.t);
-            from = hit.t + surface_epsilon(p);
+            (ray, left) = Self::through(&ray, &hit, left);
         }
         Colour::ZERO
+    }
+
+    /// A shadow ray continued past the surface it met at `hit`: restarted
+    /// on the far side by the hit's own error bound, as every secondary
+    /// ray is ([`offset_ray_origin`]), with `left`, the length still to go,
+    /// shortened by how far the new origin lies along the ray.
+    fn through(ray: &Ray, hit: &crate::shapes::Hit, left: f64) -> (Ray, f64) {
+        let origin = offset_ray_origin(hit.point, hit.p_error, hit.geo_normal, ray.dir);
+        let gone = (origin - ray.origin).dot(ray.dir);
+        (Ray::new(origin, ray.dir), left - gone)
     }
 }
 
@@ -319,6 +362,9 @@ struct Shading {
     p_err: DVec3,
     /// Unit geometric normal facing the ray.
     ng: DVec3,
+    /// `ng.normalize_or_zero()`: the normal the ray offsets use (the
+    /// same to the bit as `offset_ray_origin` normalising `ng` itself).
+    ng_offset: DVec3,
     /// Unit normal facing the ray.
     n: DVec3,
     /// The incoming ray's unit direction.

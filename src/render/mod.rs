@@ -6,11 +6,14 @@
 //! - `material/`: what each kind of material reflects, transmits and emits;
 //! - `light/`: what each kind of light sends to a point;
 //! - `integrator`: the Whitted recursion that asks materials and lights;
+//! - `adaptive`: which pixels get more samples;
 //! - `film`: the pixels.
 //!
 //! Each pixel's colour depends only on its own samples, so the image is
-//! the same for any number of threads.
+//! the same for any number of threads, and a region of it ([`render_region`])
+//! is exactly those pixels of the full picture.
 
+mod adaptive;
 mod camera;
 mod film;
 mod integrator;
@@ -20,7 +23,7 @@ pub mod sampler;
 mod stats;
 
 pub use film::Film;
-pub use stats::RenderStats;
+pub use stats::{RayCounts, RenderStats};
 
 use crate::accel::World;
 use crate::scene::{Colour, Scene};
@@ -40,11 +43,45 @@ pub struct RenderOptions<'a> {
 const PIXEL_DIM: u32 = 0;
 const LENS_DIM: u32 = 2;
 
+/// A rectangle of the picture, in the full picture's pixel coordinates.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Region {
+    pub x: u32,
+    pub y: u32,
+    pub width: u32,
+    pub height: u32,
+}
+
 /// Renders the scene at `scene.settings` size. Fails only when the camera
 /// has no frame (which the builder already reports), so it returns `None`
 /// then.
 pub fn render(scene: &Scene, world: &World, opts: &RenderOptions) -> Option<(Film, RenderStats)> {
     let (w, h) = (scene.settings.width, scene.settings.height);
+    let all = Region {
+        x: 0,
+        y: 0,
+        width: w,
+        height: h,
+    };
+    render_region(scene, world, opts, all)
+}
+
+/// Renders the pixels of `region` (clipped to the picture) exactly as the
+/// full picture has them: every sample is a pure function of its pixel's
+/// place in the full picture. `None` when the camera has no frame or the
+/// region holds no pixel.
+pub fn render_region(
+    scene: &Scene,
+    world: &World,
+    opts: &RenderOptions,
+    region: Region,
+) -> Option<(Film, RenderStats)> {
+    let (w, h) = (scene.settings.width, scene.settings.height);
+    let x1 = region.x.saturating_add(region.width).min(w);
+    let y1 = region.y.saturating_add(region.height).min(h);
+    if region.x >= x1 || region.y >= y1 {
+        return None;
+    }
     let camera = CameraRays::new(&scene.camera, w, h)?;
     let integrator = Integrator::new(scene, world);
     // Each pixel averages n × n samples; the regular sampler puts them at
@@ -54,32 +91,39 @@ pub fn render(scene: &Scene, world: &World, opts: &RenderOptions) -> Option<(Fil
         n: scene.settings.samples.clamp(1, crate::scene::MAX_SAMPLES),
         seed: scene.settings.seed,
     };
-    let weight = 1.0 / sampler.count() as f64;
+    let refine = scene
+        .settings
+        .adaptive
+        .filter(|a| a.max_samples > sampler.n && sampler.n > 1)
+        .map(|a| adaptive::Refine {
+            threshold: a.threshold,
+            sampler: PixelSampler {
+                n: a.max_samples.min(crate::scene::MAX_SAMPLES),
+                ..sampler
+            },
+        });
+    let pixels = PixelRenderer {
+        camera: &camera,
+        integrator: &integrator,
+    };
     let start = std::time::Instant::now();
     let done = AtomicU64::new(0);
-    let rows: Vec<(Vec<[f32; 3]>, stats::RayCounts)> = (0..h)
+    let rows: Vec<(Vec<[f32; 3]>, stats::RayCounts)> = (region.y..y1)
         .into_par_iter()
         .map(|b| {
             let mut counts = stats::RayCounts::default();
-            let (mut spots, mut lens) = (Vec::new(), Vec::new());
-            let row = (0..w)
+            let mut scratch = Scratch::default();
+            let row = (region.x..x1)
                 .map(|a| {
                     let pixel = Pixel { x: a, y: b };
-                    sampler.pattern(pixel, PIXEL_DIM, &mut spots);
-                    if camera.has_lens() {
-                        sampler.pattern(pixel, LENS_DIM, &mut lens);
-                    }
-                    let mut sum = Colour::ZERO;
-                    for (s, &(dx, dy)) in spots.iter().enumerate() {
-                        let q = lens.get(s).copied().unwrap_or((0.5, 0.5));
-                        let ray = camera.ray(a as f64 + dx, b as f64 + dy, q);
-                        let mut path = Path {
-                            stream: SampleStream::new(pixel, s as u32, sampler.seed),
-                            counts: &mut counts,
-                        };
-                        sum += integrator.trace(&ray, 0, &mut path);
-                    }
-                    let c = if spots.len() == 1 { sum } else { sum * weight };
+                    let first = pixels.render(pixel, &sampler, &mut scratch, &mut counts);
+                    let c = match &refine {
+                        Some(r) if r.disagree(&scratch.colours) => {
+                            counts.refined += 1;
+                            pixels.render(pixel, &r.sampler, &mut scratch, &mut counts)
+                        }
+                        _ => first,
+                    };
                     [c.x as f32, c.y as f32, c.z as f32]
                 })
                 .collect();
@@ -91,14 +135,65 @@ pub fn render(scene: &Scene, world: &World, opts: &RenderOptions) -> Option<(Fil
         })
         .collect();
     let mut counts = stats::RayCounts::default();
-    let mut pixels = Vec::with_capacity((w * h) as usize);
+    let mut film = Vec::with_capacity(((x1 - region.x) * (y1 - region.y)) as usize);
     for (row, c) in rows {
-        pixels.extend(row);
+        film.extend(row);
         counts.add(&c);
     }
     let stats = RenderStats {
         seconds: start.elapsed().as_secs_f64(),
         rays: counts,
     };
-    Some((Film::new(w, h, pixels), stats))
+    Some((Film::new(x1 - region.x, y1 - region.y, film), stats))
+}
+
+/// A pixel's buffers, kept between pixels of a row.
+#[derive(Default)]
+struct Scratch {
+    spots: Vec<(f64, f64)>,
+    lens: Vec<(f64, f64)>,
+    /// Each sample's colour, for the adaptive test.
+    colours: Vec<Colour>,
+}
+
+/// One pixel's samples through the camera and the integrator.
+struct PixelRenderer<'a> {
+    camera: &'a CameraRays,
+    integrator: &'a Integrator<'a>,
+}
+
+impl PixelRenderer<'_> {
+    /// The mean of `sampler`'s samples of `pixel` (each one kept in
+    /// `scratch.colours`).
+    fn render(
+        &self,
+        pixel: Pixel,
+        sampler: &PixelSampler,
+        scratch: &mut Scratch,
+        counts: &mut stats::RayCounts,
+    ) -> Colour {
+        sampler.pattern(pixel, PIXEL_DIM, &mut scratch.spots);
+        scratch.lens.clear();
+        if self.camera.has_lens() {
+            sampler.pattern(pixel, LENS_DIM, &mut scratch.lens);
+        }
+        scratch.colours.clear();
+        let mut sum = Colour::ZERO;
+        for (s, &(dx, dy)) in scratch.spots.iter().enumerate() {
+            let q = scratch.lens.get(s).copied().unwrap_or((0.5, 0.5));
+            let ray = self.camera.ray(pixel.x as f64 + dx, pixel.y as f64 + dy, q);
+            let mut path = Path {
+                stream: SampleStream::new(pixel, s as u32, sampler.seed),
+                counts,
+            };
+            let c = self.integrator.trace(&ray, 0, &mut path);
+            scratch.colours.push(c);
+            sum += c;
+        }
+        if scratch.spots.len() == 1 {
+            sum
+        } else {
+            sum * (1.0 / sampler.count() as f64)
+        }
+    }
 }

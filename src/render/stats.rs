@@ -1,9 +1,11 @@
-/// Rays cast, by kind.
+/// Rays cast, by kind (and the pixels adaptive sampling refined).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct RayCounts {
     pub primary: u64,
     pub reflected: u64,
     pub shadow: u64,
+    /// Pixels that adaptive sampling rendered again with more samples.
+    pub refined: u64,
 }
 
 impl RayCounts {
@@ -11,6 +13,7 @@ impl RayCounts {
         self.primary += o.primary;
         self.reflected += o.reflected;
         self.shadow += o.shadow;
+        self.refined += o.refined;
     }
 
     pub fn total(&self) -> u64 {

@@ -81,6 +81,11 @@ pub struct AreaLight {
     /// Whether both sides emit (a sphere's inside never shows; a disc or
     /// rectangle emits on its front only).
     pub two_sided: bool,
+    /// Part of a CSG solid, so parts of its surface may be cut away (or
+    /// turned inside out, for a cutter): a sample counts only where a ray
+    /// to it meets an emitting surface there from its front
+    /// (`render/light/area.rs`).
+    pub clipped: bool,
 }
 
 /// Light from every direction: colour × intensity, or an image (an HDR or

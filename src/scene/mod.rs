@@ -35,6 +35,19 @@ pub struct RenderSettings {
     pub sampler: SamplerKind,
     /// Changes every random number of the picture (and nothing else).
     pub seed: u64,
+    /// More samples only where a pixel's first ones disagree.
+    pub adaptive: Option<Adaptive>,
+}
+
+/// `render { samples N  adaptive { threshold T  max_samples M } }`: a pixel
+/// whose N × N samples differ by more than T in some channel (each clamped
+/// to [0, 1]) is rendered again with the M × M samples `samples M` would
+/// take, which replace the first ones.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Adaptive {
+    pub threshold: f64,
+    /// Samples per side where the first ones disagree.
+    pub max_samples: u32,
 }
 
 /// How a pixel's n × n samples are placed.
@@ -66,6 +79,7 @@ impl Default for RenderSettings {
             samples: 1,
             sampler: SamplerKind::Regular,
             seed: 0,
+            adaptive: None,
         }
     }
 }

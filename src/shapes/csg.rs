@@ -233,14 +233,13 @@ impl Csg {
 
     /// Moves a hit of child `i` that wears the block's material into the
     /// block's texture space (see [`Csg::texture_space`]).
-    fn in_texture_space(&self, ray: &Ray, mut h: Hit, i: usize) -> Hit {
+    fn in_texture_space(&self, ray: &Ray, h: &mut Hit, i: usize) {
         if self.texture_space == Some(h.material) {
             if h.path != LOST {
-                h.uv = self.children[i].uv(&h);
+                h.uv = self.children[i].uv(h);
             }
             h.local = ray.at(h.t);
         }
-        h
     }
 
     /// Whether a child contributes its inside (false) or cuts it away.
@@ -429,10 +428,11 @@ impl Csg {
             if let Some(inner) = list.iter().find(|x| x.t == c.t) {
                 let mut h = child.hit_of(ray, inner);
                 if self.is_cutter(i) {
-                    h = h.flipped();
+                    h.flip();
                 }
-                let h = Hit { path: LOST, ..h };
-                return self.in_texture_space(ray, h, i);
+                h.path = LOST;
+                self.in_texture_space(ray, &mut h, i);
+                return h;
             }
         }
         Hit {
@@ -449,13 +449,14 @@ impl Csg {
 
     /// The hit as the result reports it: `child`'s digit added to its path.
     /// A path too deep for 64 bits becomes `LOST` (its (u, v) read as zero).
-    fn tagged(&self, mut h: Hit, child: u32) -> Hit {
+    /// In place, as [`Csg::in_texture_space`]: a hit is 160 bytes, and
+    /// every copy on the way out of a query is a `memcpy`.
+    fn tag(&self, h: &mut Hit, child: u32) {
         h.path = h
             .path
             .checked_mul(self.children.len() as u64)
             .and_then(|p| p.checked_add(child as u64))
             .unwrap_or(LOST);
-        h
     }
 
     /// Splits the children that matter within (t_min, t_max) into two bit
@@ -564,14 +565,18 @@ impl Csg {
 impl Csg {
     /// The result's first crossing within (t_min, t_max), as a full hit.
     fn nearest(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<Hit> {
-        let (alone_hit, swept) = with_scratch(|s| {
+        // The lone children's nearest hit, as the child gave it: made the
+        // result's (texture space, path) only if nothing swept is nearer.
+        let mut found: Option<Hit> = None;
+        let mut found_child = 0;
+        let swept = with_scratch(|s| {
             let (alone, rest) = self.union_split(ray, t_min, t_max, s);
-            let mut found = None;
             let mut t_best = t_max;
             for i in bits(alone) {
                 if let Some(h) = self.children[i].intersect(ray, t_min, t_best) {
                     t_best = h.t;
-                    found = Some(self.tagged(self.in_texture_space(ray, h, i), i as u32));
+                    found = Some(h);
+                    found_child = i;
                 }
             }
             let mut swept = None;
@@ -587,10 +592,16 @@ impl Csg {
                     false
                 });
             }
-            (found, swept)
+            swept
         });
         // Anything the sweep found lies before t_best.
-        swept.map(|c| self.hit_of(ray, &c)).or(alone_hit)
+        if let Some(c) = swept {
+            return Some(self.hit_of(ray, &c));
+        }
+        let mut h = found?;
+        self.in_texture_space(ray, &mut h, found_child);
+        self.tag(&mut h, found_child as u32);
+        Some(h)
     }
 }
 
@@ -664,9 +675,11 @@ impl Shape for Csg {
         };
         let mut h = self.children[i].hit_of(ray, &inner);
         if self.is_cutter(i) {
-            h = h.flipped();
+            h.flip();
         }
-        self.tagged(self.in_texture_space(ray, h, i), i as u32)
+        self.in_texture_space(ray, &mut h, i);
+        self.tag(&mut h, i as u32);
+        h
     }
 
     fn bounds(&self) -> Aabb {

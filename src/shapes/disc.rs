@@ -28,14 +28,26 @@ impl Disc {
 
     /// The crossing along the whole line, if any.
     fn root(&self, ray: &Ray) -> Option<Hit> {
+        let t = self.root_t(ray)?;
+        Some(self.hit(ray, t))
+    }
+
+    /// The crossing's t alone (shadow rays).
+    fn root_t(&self, ray: &Ray) -> Option<f64> {
         if ray.dir.z == 0.0 || self.radius.is_nan() || self.radius <= 0.0 {
             return None;
         }
         let t = (self.centre.z - ray.origin.z) / ray.dir.z;
+        let q = ray.at(t) - self.centre;
+        let r = self.radius;
+        (q.x * q.x + q.y * q.y <= r * r && t.is_finite()).then_some(t)
+    }
+
+    fn hit(&self, ray: &Ray, t: f64) -> Hit {
         let p = ray.at(t);
         let q = p - self.centre;
         let r = self.radius;
-        (q.x * q.x + q.y * q.y <= r * r && t.is_finite()).then(|| Hit {
+        Hit {
             t,
             normal: DVec3::Z,
             uv: DVec2::new((q.x + r) / (2.0 * r), (q.y + r) / (2.0 * r)),
@@ -46,13 +58,19 @@ impl Disc {
             geo_normal: DVec3::Z,
             material: self.material,
             path: 0,
-        })
+        }
     }
 }
 
 impl Shape for Disc {
     fn intersect(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<Hit> {
-        self.root(ray).filter(|h| h.t > t_min && h.t < t_max)
+        let t = self.root_t(ray)?;
+        (t > t_min && t < t_max).then(|| self.hit(ray, t))
+    }
+
+    /// Shadow rays: the same test, no hit built.
+    fn occludes(&self, ray: &Ray, t_min: f64, t_max: f64) -> bool {
+        self.root_t(ray).is_some_and(|t| t > t_min && t < t_max)
     }
 
     fn crossings(&self, ray: &Ray, out: &mut Vec<Hit>) {
@@ -113,5 +131,6 @@ mod tests {
         testing::check_consistency(&d, &rays);
         testing::check_no_rehit(&d, &rays);
         assert!(testing::check_normals(&d, &rays) > 50);
+        assert!(testing::check_occludes_agrees(&d, &rays) > 100);
     }
 }

@@ -95,6 +95,12 @@ impl Hit {
             ..self
         }
     }
+
+    /// [`Hit::flipped`] in place (no copy of the whole hit).
+    pub fn flip(&mut self) {
+        self.normal = -self.normal;
+        self.geo_normal = -self.geo_normal;
+    }
 }
 
 /// The error bound of `ray.at(t)` from rounding alone (t taken as exact):
@@ -373,6 +379,40 @@ pub(crate) mod testing {
                 assert!(w[0].t <= w[1].t, "crossings out of order");
             }
         }
+    }
+
+    /// The shadow-ray test and the nearest hit agree with the crossings
+    /// (a separate route, through full hits) in every window: the whole
+    /// ray, windows ending just before and just after the first hit, one
+    /// starting past it, and ones starting behind the origin (CSG asks
+    /// those). Shapes answer `occludes` without building a hit; this keeps
+    /// the routes one test. Returns how many rays hit.
+    pub fn check_occludes_agrees(shape: &dyn Shape, rays: &[Ray]) -> usize {
+        let mut hits = 0;
+        for r in rays {
+            let mut xs = Vec::new();
+            shape.crossings(r, &mut xs);
+            let first = xs.iter().map(|h| h.t).find(|&t| t > 0.0);
+            hits += first.is_some() as usize;
+            let t = first.unwrap_or(1.0);
+            for (lo, hi) in [
+                (0.0, f64::INFINITY),
+                (0.0, t * 0.999),
+                (0.0, t * 1.001),
+                (t * 1.001, f64::INFINITY),
+                (-1e3, f64::INFINITY),
+                (-1e3, t * 0.999),
+            ] {
+                let want = xs.iter().any(|h| h.t > lo && h.t < hi);
+                assert_eq!(shape.occludes(r, lo, hi), want, "({lo}, {hi}) {r:?}");
+                assert_eq!(
+                    shape.intersect(r, lo, hi).is_some(),
+                    want,
+                    "({lo}, {hi}) {r:?}"
+                );
+            }
+        }
+        hits
     }
 
     /// A ray leaving the surface from a hit, straight on or mirrored, must not

@@ -71,12 +71,31 @@ impl Plane {
         }
         Some((self.offset - self.normal.dot(ray.origin)) / denom)
     }
+
+    /// [`Plane::root`] within (t_min, t_max). Every ray meets the plane (it
+    /// is unbounded, so tested beside the kd-tree), and most leave it
+    /// behind: when t_min ≥ 0 and the numerator and denominator of the
+    /// root differ in sign, t < 0 (or −0) is out of range whatever the
+    /// division gives, so it is skipped. Otherwise the same arithmetic.
+    #[inline]
+    fn root_in(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<f64> {
+        let denom = self.normal.dot(ray.dir);
+        let num = self.offset - self.normal.dot(ray.origin);
+        if t_min >= 0.0 && ((num < 0.0 && denom > 0.0) || (num > 0.0 && denom < 0.0)) {
+            return None;
+        }
+        if denom == 0.0 {
+            return None;
+        }
+        let t = num / denom;
+        (t > t_min && t < t_max).then_some(t)
+    }
 }
 
 impl Shape for Plane {
     fn intersect(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<Hit> {
-        let t = self.root(ray)?;
-        (t > t_min && t < t_max).then(|| self.hit_at(ray, t))
+        let t = self.root_in(ray, t_min, t_max)?;
+        Some(self.hit_at(ray, t))
     }
 
     fn crossings(&self, ray: &Ray, out: &mut Vec<Hit>) {
@@ -86,7 +105,7 @@ impl Shape for Plane {
     }
 
     fn occludes(&self, ray: &Ray, t_min: f64, t_max: f64) -> bool {
-        self.root(ray).is_some_and(|t| t > t_min && t < t_max)
+        self.root_in(ray, t_min, t_max).is_some()
     }
 
     fn crossings_lite(&self, ray: &Ray, out: &mut Vec<Crossing>) {
@@ -152,5 +171,34 @@ mod tests {
         let r = Ray::new(DVec3::ZERO, DVec3::new(1.0, 1.0, 0.0).normalize());
         let h = tilted.intersect(&r, 0.0, 99.0).unwrap();
         assert!((h.t - 2f64.sqrt()).abs() < 1e-12, "{h:?}");
+    }
+
+    /// Shadow rays and nearest hits skip the division when the plane is
+    /// behind the ray: the answer must be what the division gives, for
+    /// origins on either side and on the plane, and windows starting at,
+    /// before and after 0 (−0 too).
+    #[test]
+    fn skipping_the_division_changes_no_answer() {
+        let planes = [
+            Plane::new(DVec3::Y, 0.0, 0),
+            Plane::new(DVec3::new(1.0, 2.0, -0.5), 0.7, 0),
+        ];
+        let mut rays = crate::shapes::testing::rays_towards(DVec3::ZERO, 3.0, 400, 61);
+        // On the plane y = 0, and just off it, going up, down and along.
+        for y in [0.0, f64::MIN_POSITIVE, -f64::MIN_POSITIVE, 1e-12] {
+            for d in [DVec3::Y, -DVec3::Y, DVec3::X, DVec3::new(1.0, 1e-9, 0.0)] {
+                rays.push(Ray::new(DVec3::new(0.3, y, -0.2), d));
+            }
+        }
+        for p in &planes {
+            for r in &rays {
+                for (lo, hi) in [(0.0, f64::INFINITY), (-0.0, 5.0), (1e-3, 2.0), (-5.0, 5.0)] {
+                    let want = p.root(r).filter(|&t| t > lo && t < hi);
+                    assert_eq!(p.root_in(r, lo, hi), want, "({lo}, {hi}) {r:?}");
+                    assert_eq!(p.occludes(r, lo, hi), want.is_some());
+                    assert_eq!(p.intersect(r, lo, hi).map(|h| h.t), want);
+                }
+            }
+        }
     }
 }

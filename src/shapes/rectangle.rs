@@ -42,35 +42,58 @@ impl Rectangle {
     /// that diagonal exactly, so no ray slips between them. (u, v) follow
     /// from each half's barycentric weights.
     fn root(&self, ray: &Ray) -> Option<Hit> {
+        let (t, half, w) = self.root_t(ray)?;
+        Some(self.hit(ray, t, half, w))
+    }
+
+    /// The crossing's t, which half (0: p00 p10 p11, 1: p00 p11 p01) and
+    /// its barycentric weights there, without the hit (shadow rays).
+    fn root_t(&self, ray: &Ray) -> Option<(f64, usize, [f64; 3])> {
         if self.normal == DVec3::ZERO {
             return None;
         }
         let [p00, p10, p11, p01] = self.corners;
         let sheared = ShearedRay::new(ray);
-        let (t, tri, uv) = if let Some((t, w)) = sheared.triangle(p00, p10, p11) {
-            (t, [p00, p10, p11], (w, DVec2::new(w[1] + w[2], w[2])))
+        if let Some((t, w)) = sheared.triangle(p00, p10, p11) {
+            return Some((t, 0, w));
+        }
+        let (t, w) = sheared.triangle(p00, p11, p01)?;
+        Some((t, 1, w))
+    }
+
+    fn hit(&self, ray: &Ray, t: f64, half: usize, w: [f64; 3]) -> Hit {
+        let [p00, p10, p11, p01] = self.corners;
+        let (tri, uv) = if half == 0 {
+            ([p00, p10, p11], DVec2::new(w[1] + w[2], w[2]))
         } else {
-            let (t, w) = sheared.triangle(p00, p11, p01)?;
-            (t, [p00, p11, p01], (w, DVec2::new(w[1], w[1] + w[2])))
+            ([p00, p11, p01], DVec2::new(w[1], w[1] + w[2]))
         };
-        let (point, p_error) = barycentric_point(tri, uv.0);
-        Some(Hit {
+        let (point, p_error) = barycentric_point(tri, w);
+        Hit {
             t,
             normal: self.normal,
-            uv: uv.1,
+            uv,
             local: ray.at(t),
             point,
             p_error,
             geo_normal: self.normal,
             material: self.material,
             path: 0,
-        })
+        }
     }
 }
 
 impl Shape for Rectangle {
     fn intersect(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<Hit> {
-        self.root(ray).filter(|h| h.t > t_min && h.t < t_max)
+        let (t, half, w) = self.root_t(ray)?;
+        (t > t_min && t < t_max).then(|| self.hit(ray, t, half, w))
+    }
+
+    /// Shadow rays (an area light's own rectangle is met by every one of
+    /// them): the same test, no hit built.
+    fn occludes(&self, ray: &Ray, t_min: f64, t_max: f64) -> bool {
+        self.root_t(ray)
+            .is_some_and(|(t, _, _)| t > t_min && t < t_max)
     }
 
     fn crossings(&self, ray: &Ray, out: &mut Vec<Hit>) {
@@ -138,5 +161,6 @@ mod tests {
         testing::check_consistency(&r, &rays);
         testing::check_no_rehit(&r, &rays);
         assert!(testing::check_normals(&r, &rays) > 50);
+        assert!(testing::check_occludes_agrees(&r, &rays) > 100);
     }
 }

@@ -15,7 +15,7 @@
 //! coefficients well scaled; its roots come from the implicit surfaces'
 //! root finder.
 
-use super::{Hit, Shape};
+use super::{Crossing, Hit, Shape};
 use crate::geometry::rounding::gamma;
 use crate::geometry::{Aabb, DVec2, DVec3, Ray};
 use crate::implicit::solve::{no_root_in_unit, roots_in};
@@ -76,11 +76,30 @@ impl Torus {
         });
     }
 
-    fn hit_at(&self, ray: &Ray, t: f64) -> Hit {
-        let p = ray.at(t);
+    /// The outward normal (the gradient's half) at a point of the torus.
+    fn normal(&self, p: DVec3) -> DVec3 {
         let s = p.length_squared() + self.major * self.major - self.minor * self.minor;
         let k = 2.0 * self.major * self.major;
-        let normal = DVec3::new(p.x * (s - k), p.y * s, p.z * (s - k));
+        DVec3::new(p.x * (s - k), p.y * s, p.z * (s - k))
+    }
+
+    /// The line's crossings (at most four), in increasing t.
+    fn all_roots(&self, ray: &Ray) -> ([f64; 4], usize) {
+        let mut ts = [0.0; 4];
+        let mut n = 0;
+        self.roots(ray, f64::NEG_INFINITY, f64::INFINITY, |t| {
+            if n < 4 {
+                ts[n] = t;
+                n += 1;
+            }
+            false
+        });
+        (ts, n)
+    }
+
+    fn hit_at(&self, ray: &Ray, t: f64) -> Hit {
+        let p = ray.at(t);
+        let normal = self.normal(p);
         let (point, p_error) = self.reproject(p);
         Hit {
             t,
@@ -142,16 +161,23 @@ impl Shape for Torus {
     }
 
     fn crossings(&self, ray: &Ray, out: &mut Vec<Hit>) {
-        let mut ts = [0.0; 4];
-        let mut n = 0;
-        self.roots(ray, f64::NEG_INFINITY, f64::INFINITY, |t| {
-            if n < 4 {
-                ts[n] = t;
-                n += 1;
-            }
-            false
-        });
+        let (ts, n) = self.all_roots(ray);
         out.extend(ts[..n].iter().map(|&t| self.hit_at(ray, t)));
+    }
+
+    /// CSG sees up to four crossings per line and keeps at most one: the
+    /// re-projected point and its error bound wait for `hit_of`.
+    fn crossings_lite(&self, ray: &Ray, out: &mut Vec<Crossing>) {
+        let (ts, n) = self.all_roots(ray);
+        out.extend(
+            ts[..n]
+                .iter()
+                .map(|&t| Crossing::new(t, self.normal(ray.at(t)), ray, 0)),
+        );
+    }
+
+    fn hit_of(&self, ray: &Ray, c: &Crossing) -> Hit {
+        self.hit_at(ray, c.t)
     }
 
     fn bounds(&self) -> Aabb {

@@ -34,19 +34,26 @@ impl Transformed {
     /// The hit in world space: normals by the inverse transpose, the point
     /// and its error bound forward by the matrix (error grows by |M| and
     /// the product's own rounding, see `transform_point_error`).
-    fn to_world(&self, mut h: Hit) -> Hit {
+    /// In place: a hit is 160 bytes, and each copy on the way out of a
+    /// nearest-hit query is a `memcpy`.
+    fn to_world(&self, h: &mut Hit) {
+        // Most shapes give one vector for both normals: map it once.
+        let same = h.normal == h.geo_normal;
         h.normal = self.transform.normal(h.normal);
-        h.geo_normal = self.transform.normal(h.geo_normal);
+        h.geo_normal = if same {
+            h.normal
+        } else {
+            self.transform.normal(h.geo_normal)
+        };
         (h.point, h.p_error) = transform_point_error(&self.transform.matrix, h.point, h.p_error);
-        h
     }
 }
 
 impl Shape for Transformed {
     fn intersect(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<Hit> {
-        self.inner
-            .intersect(&self.local_ray(ray), t_min, t_max)
-            .map(|h| self.to_world(h))
+        let mut h = self.inner.intersect(&self.local_ray(ray), t_min, t_max)?;
+        self.to_world(&mut h);
+        Some(h)
     }
 
     fn occludes(&self, ray: &Ray, t_min: f64, t_max: f64) -> bool {
@@ -57,7 +64,7 @@ impl Shape for Transformed {
         let start = out.len();
         self.inner.crossings(&self.local_ray(ray), out);
         for h in &mut out[start..] {
-            *h = self.to_world(*h);
+            self.to_world(h);
         }
     }
 
@@ -68,7 +75,9 @@ impl Shape for Transformed {
     }
 
     fn hit_of(&self, ray: &Ray, c: &Crossing) -> Hit {
-        self.to_world(self.inner.hit_of(&self.local_ray(ray), c))
+        let mut h = self.inner.hit_of(&self.local_ray(ray), c);
+        self.to_world(&mut h);
+        h
     }
 
     fn bounds(&self) -> Aabb {

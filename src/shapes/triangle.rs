@@ -32,13 +32,14 @@ impl Triangle {
     /// The watertight test along the whole line. A zero-area triangle is
     /// never hit.
     fn root(&self, ray: &Ray) -> Option<Hit> {
-        if self.normal == DVec3::ZERO {
-            return None;
-        }
-        let [a, b, c] = self.corners;
-        let (t, w) = ShearedRay::new(ray).triangle(a, b, c)?;
+        let (t, w) = self.root_t(ray)?;
+        Some(self.hit(ray, t, w))
+    }
+
+    /// The hit at the crossing `root_t` found.
+    fn hit(&self, ray: &Ray, t: f64, w: [f64; 3]) -> Hit {
         let (point, p_error) = barycentric_point(self.corners, w);
-        Some(Hit {
+        Hit {
             t,
             normal: self.normal,
             uv: DVec2::new(w[1], w[2]),
@@ -48,13 +49,31 @@ impl Triangle {
             geo_normal: self.normal,
             material: self.material,
             path: 0,
-        })
+        }
+    }
+}
+
+impl Triangle {
+    /// The crossing's t and barycentric weights, without the hit.
+    fn root_t(&self, ray: &Ray) -> Option<(f64, [f64; 3])> {
+        if self.normal == DVec3::ZERO {
+            return None;
+        }
+        let [a, b, c] = self.corners;
+        ShearedRay::new(ray).triangle(a, b, c)
     }
 }
 
 impl Shape for Triangle {
     fn intersect(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<Hit> {
-        self.root(ray).filter(|h| h.t > t_min && h.t < t_max)
+        let (t, w) = self.root_t(ray)?;
+        (t > t_min && t < t_max).then(|| self.hit(ray, t, w))
+    }
+
+    /// Shadow rays: the same test, no hit built.
+    fn occludes(&self, ray: &Ray, t_min: f64, t_max: f64) -> bool {
+        self.root_t(ray)
+            .is_some_and(|(t, _)| t > t_min && t < t_max)
     }
 
     fn crossings(&self, ray: &Ray, out: &mut Vec<Hit>) {
@@ -125,5 +144,6 @@ mod tests {
         testing::check_consistency(&tri, &rays);
         testing::check_no_rehit(&tri, &rays);
         assert!(testing::check_normals(&tri, &rays) > 50);
+        assert!(testing::check_occludes_agrees(&tri, &rays) > 100);
     }
 }

@@ -445,3 +445,106 @@ plane { normal <0, 1, 0>  material { colour rgb(1, 1, 1) } }
     let want = 2.0 * 100.0 * std::f32::consts::PI * 0.0025 * 0.9 / 10.0;
     assert!((mid - want).abs() < 0.02 * want, "{mid} vs {want}");
 }
+
+/// A white floor seen from above at 3 × 3 pixels around the origin, under
+/// `above` (objects), in linear output.
+fn floor_lit_by(above: &str, render: &str) -> Film {
+    render_src(&format!(
+        "
+camera {{ position <0.3, 0.5, 0>  look_at <0, 0, 0>  fov 2 }}
+render {{ width 3  height 3  gamma linear  {render} }}
+plane {{ normal <0, 1, 0>  material {{ colour rgb(1, 1, 1) }} }}
+{above}
+"
+    ))
+}
+
+#[test]
+fn a_sphere_light_is_sampled_over_the_cap_the_point_sees() {
+    let _watchdog = crate::watchdog::start();
+    // Radius 1 at height 5, radiance 10: E = π L (r/d)² = 0.4π straight
+    // under it. Sampled over the cone it fills, one random point per pixel
+    // already gives that within the spread of cos θ over the cone (2%);
+    // points drawn over the whole sphere would miss half the time.
+    let want = std::f64::consts::PI * 10.0 / 25.0;
+    let film = floor_lit_by(
+        "sphere { centre <0, 5, 0>  radius 1  material { emit white  intensity 10 } }",
+        "seed 5",
+    );
+    for p in &film.pixels {
+        let e = p[0] as f64;
+        assert!((e - want).abs() < 0.02 * want, "{e} vs {want}");
+    }
+}
+
+#[test]
+fn an_emissive_sphere_inside_csg_lights_where_the_solid_kept_its_surface() {
+    let _watchdog = crate::watchdog::start();
+    let want = std::f64::consts::PI * 10.0 / 25.0;
+    let lamp = "material lamp { emit white  intensity 10 }";
+    // In a union with a box far away, it lights as the lone sphere does
+    // (a 16 × 16 grid over its whole surface: within a few percent).
+    let union = floor_lit_by(
+        &format!(
+            "{lamp} union {{ sphere {{ centre <0, 5, 0>  radius 1  material lamp  samples 16 }}  box {{ min <20, 0, 20>  max <21, 1, 21> }} }}"
+        ),
+        "",
+    );
+    let e = union.get(1, 1)[0] as f64;
+    assert!((e - want).abs() < 0.03 * want, "{e} vs {want}");
+    // With its lower half cut away (the cut face is the box's, dark), the
+    // floor below sees no emitting surface: the samples on the missing
+    // half must not count.
+    let cut = floor_lit_by(
+        &format!(
+            "{lamp} difference {{ sphere {{ centre <0, 5, 0>  radius 1  material lamp  samples 16 }}  box {{ min <-2, 3, -2>  max <2, 5, 2>  material {{ colour black }} }} }}"
+        ),
+        "",
+    );
+    assert_eq!(cut.get(1, 1), [0.0, 0.0, 0.0]);
+    // As a cutter it leaves a glowing dome in a slab (y from 4 to 6), open
+    // below through a disc of radius 1 at height 4: every direction
+    // through the opening meets the dome, so the floor under it gets the
+    // disc's E = π L R²/(R² + h²) = 10π/17 (not the whole sphere's 10π/16).
+    let dome = floor_lit_by(
+        &format!(
+            "{lamp} difference {{ box {{ min <-3, 4, -3>  max <3, 6, 3>  material {{ colour black }} }}  sphere {{ centre <0, 4, 0>  radius 1  material lamp  samples 16 }} }}"
+        ),
+        "",
+    );
+    let e_dome = dome.get(1, 1)[0] as f64;
+    let want_dome = std::f64::consts::PI * 10.0 / 17.0;
+    assert!(
+        (e_dome - want_dome).abs() < 0.03 * want_dome,
+        "{e_dome} vs {want_dome}"
+    );
+    // The same lamp, moved with the CSG: a translate on the operation
+    // moves its light too.
+    let moved = floor_lit_by(
+        &format!(
+            "{lamp} union {{ sphere {{ centre <0, 0, 0>  radius 1  material lamp  samples 16 }}  box {{ min <20, 0, 20>  max <21, 1, 21> }}  translate <0, 5, 0> }}"
+        ),
+        "",
+    );
+    assert!((moved.get(1, 1)[0] as f64 - e).abs() < 1e-6 * want);
+}
+
+#[test]
+fn an_emissive_shape_that_cannot_light_is_warned_about() {
+    let _watchdog = crate::watchdog::start();
+    let warnings = |src: &str| {
+        let (_d, path) = scene_file(src);
+        let program = raytrace::lang::load(&path).unwrap();
+        raytrace::scene::build_with_warnings(&program).unwrap().1
+    };
+    let w = warnings("box { min <0, 0, 0>  max <1, 1, 1>  material { emit white } }");
+    assert_eq!(w.len(), 1, "{w:?}");
+    assert!(w[0].contains("emissive `box`") && w[0].contains("lights nothing"));
+    // Inside CSG too; an emissive sphere there lights, and says nothing.
+    let w = warnings(
+        "union { torus { major 1  minor 0.2  material { emit white } }  sphere { radius 0.5  material { emit white } } }",
+    );
+    assert_eq!(w.len(), 1, "{w:?}");
+    assert!(w[0].contains("emissive `torus`"), "{w:?}");
+    assert!(warnings("disc { radius 1  material { emit white } }").is_empty());
+}

@@ -1,5 +1,6 @@
 //! End-to-end tests: one binary (link once), one module per area.
 
+mod adaptive;
 mod cli;
 mod csg;
 mod diagnostics;
@@ -10,6 +11,7 @@ mod golden;
 mod hostile;
 mod lang;
 mod looks;
+mod media;
 mod mesh;
 mod mesh_formats;
 mod patterns;

@@ -1,20 +1,34 @@
-//! Area lights: emissive spheres, discs and rectangles, sampled on their
-//! surface. For a point y on the light (drawn uniformly over its area A;
-//! discs through the concentric map) the light arriving at x is
+//! Area lights: emissive spheres, discs and rectangles. For a point y on
+//! the light drawn uniformly over its area A (discs through the concentric
+//! map) the light arriving at x is
 //!
 //! ```text
 //! L_e · (n_y·(−l))⁺ / |x − y|² · A       (l the unit direction x → y)
 //! ```
 //! which the integrator weighs by k_d c (n·l)⁺ and one shadow ray to y:
-//! area lights fall off with distance squared, unlike point lights. With
-//! no `samples` each pixel sample draws one point (the course's way; the
-//! noise averages out over the pixel's samples); `samples n` on the object
-//! gives it its own n × n grid of cell centres per shading point (POV-Ray's
-//! `area_light`, no randomness).
+//! area lights fall off with distance squared, unlike point lights.
+//!
+//! A sphere seen from outside is sampled over the cone of directions it
+//! fills instead (pbrt's `Sphere::Sample` with the cone): with
+//! sin θ_max = r/|c − x|, a direction is drawn uniformly in solid angle
+//! within θ_max of the centre's direction and y is where it meets the near
+//! cap, so no sample lands on the half the point cannot see; each sample
+//! brings L_e · 2π(1 − cos θ_max) (L_e over the density 1/(2π(1 − cos θ_max))).
+//! A point facing the sphere then receives E = π L_e (r/d)².
+//!
+//! A light inside CSG (`clipped`) is sampled over its whole surface on
+//! both sides, and the integrator keeps a sample only where a ray to it
+//! finds the solid's surface there, emitting toward the point.
+//!
+//! With no `samples` each pixel sample draws one point (the course's way;
+//! the noise averages out over the pixel's samples); `samples n` on the
+//! object gives it its own n × n grid of cell centres per shading point
+//! (POV-Ray's `area_light`, no randomness).
 //!
 //! ```text
 //! material lamp { emit white  intensity 4 }
 //! rectangle { bottom_left <-1, 6, 0>  top_left <-1, 6, 2>  bottom_right <1, 6, 0>  material lamp  samples 8 }
+//! sphere { centre <0, 5, 0>  radius 0.3  material lamp }
 //! ```
 
 use super::LightSample;
@@ -66,6 +80,15 @@ pub fn area(s: &LightSurface) -> f64 {
 /// The light from the point of `light` at square sample `u`, as seen from
 /// `from`; `None` when that point faces away.
 pub fn sample(light: &AreaLight, from: DVec3, u: (f64, f64)) -> Option<LightSample> {
+    if let LightSurface::Sphere { centre, radius } = light.surface
+        && !light.clipped
+        && let Some(s) = sphere_cone(centre, radius, from, u)
+    {
+        return Some(LightSample {
+            radiance: light.emit * s.radiance.x,
+            ..s
+        });
+    }
     let (y, ny) = point_on(&light.surface, u);
     let to = y - from;
     let d2 = to.length_squared();
@@ -83,6 +106,38 @@ pub fn sample(light: &AreaLight, from: DVec3, u: (f64, f64)) -> Option<LightSamp
         // Stop short of the light's own surface, which y lies on.
         dist: dist * (1.0 - 1e-9),
         radiance: light.emit * (cos_y / d2 * area(&light.surface)),
+    })
+}
+
+/// A point of the cap of the sphere (`centre`, `radius`) that `from` sees,
+/// drawn uniformly in the solid angle the sphere fills, with the weight
+/// 2π(1 − cos θ_max) (in every channel of `radiance`, to be multiplied by
+/// L_e). `None` when `from` is not outside the sphere.
+pub fn sphere_cone(centre: DVec3, radius: f64, from: DVec3, u: (f64, f64)) -> Option<LightSample> {
+    let to_centre = centre - from;
+    let dc = to_centre.length();
+    if dc <= radius * (1.0 + 1e-9) {
+        return None;
+    }
+    let w = to_centre / dc;
+    let sin2_max = (radius / dc).powi(2);
+    let cos_max = (1.0 - sin2_max).max(0.0).sqrt();
+    // 1 − cos θ_max, and cos θ, without cancellation for a tiny cone.
+    let one_minus_cos_max = sin2_max / (1.0 + cos_max);
+    let one_minus_cos = u.0 * one_minus_cos_max;
+    let cos_t = 1.0 - one_minus_cos;
+    let sin_t = (one_minus_cos * (2.0 - one_minus_cos)).max(0.0).sqrt();
+    let phi = std::f64::consts::TAU * u.1;
+    let (a, b) = w.any_orthonormal_pair();
+    let dir = (sin_t * phi.cos()) * a + (sin_t * phi.sin()) * b + cos_t * w;
+    // Where dir first meets the sphere: t² − 2t(dir·c') + |c'|² − r² = 0.
+    let proj = dir.dot(to_centre);
+    let disc = (radius * radius - (dc * dc - proj * proj)).max(0.0);
+    let dist = proj - disc.sqrt();
+    Some(LightSample {
+        dir,
+        dist: dist * (1.0 - 1e-9),
+        radiance: crate::scene::Colour::splat(std::f64::consts::TAU * one_minus_cos_max),
     })
 }
 
@@ -126,6 +181,7 @@ mod tests {
             emit: Colour::ONE,
             samples: None,
             two_sided: false,
+            clipped: false,
         };
         let s = sample(&light, DVec3::ZERO, (0.5, 0.5)).unwrap();
         assert!(
@@ -140,5 +196,60 @@ mod tests {
         let far = sample(&light, DVec3::new(0.0, -5.0, 0.0), (0.5, 0.5)).unwrap();
         assert!((far.dist - 10.0).abs() < 1e-6);
         assert!((far.radiance.x * 4.0 - s.radiance.x).abs() < 1e-15);
+    }
+
+    #[test]
+    fn a_sphere_light_gives_pi_l_r2_over_d2_to_a_point_facing_it() {
+        // Radius 1 at distance 3 and 1.2 (a wide cone), and a tiny far one.
+        for (r, d) in [(1.0, 3.0), (1.0, 1.2), (0.01, 50.0)] {
+            let light = AreaLight {
+                surface: LightSurface::Sphere {
+                    centre: DVec3::new(0.0, d, 0.0),
+                    radius: r,
+                },
+                emit: Colour::new(2.0, 1.0, 0.5),
+                samples: None,
+                two_sided: false,
+                clipped: false,
+            };
+            let n = 200;
+            let mut e = 0.0;
+            for i in 0..n {
+                for j in 0..n {
+                    let u = ((i as f64 + 0.5) / n as f64, (j as f64 + 0.5) / n as f64);
+                    let s = sample(&light, DVec3::ZERO, u).unwrap();
+                    // Every point lies on the sphere, on the cap facing us.
+                    let y = s.dir * s.dist / (1.0 - 1e-9);
+                    let c = DVec3::new(0.0, d, 0.0);
+                    assert!(((y - c).length() - r).abs() < 1e-9 * d, "on the sphere");
+                    assert!((y - c).dot(-y) >= -1e-9 * d, "on the near cap");
+                    e += s.radiance.x * s.dir.y.max(0.0);
+                }
+            }
+            e /= (n * n) as f64;
+            let want = std::f64::consts::PI * 2.0 * (r / d).powi(2);
+            assert!((e - want).abs() < 1e-3 * want, "r {r} d {d}: {e} vs {want}");
+        }
+    }
+
+    #[test]
+    fn inside_a_sphere_light_or_clipped_the_whole_surface_is_sampled() {
+        let c = DVec3::new(0.0, 3.0, 0.0);
+        assert!(sphere_cone(c, 1.0, c + DVec3::X * 0.5, (0.3, 0.3)).is_none());
+        let light = AreaLight {
+            surface: LightSurface::Sphere {
+                centre: c,
+                radius: 1.0,
+            },
+            emit: Colour::ONE,
+            samples: None,
+            two_sided: true,
+            clipped: true,
+        };
+        // u.0 near 0 is the sphere's far pole (+z), which a cone sample
+        // from the origin could never reach.
+        let s = sample(&light, DVec3::ZERO, (0.0, 0.0)).unwrap();
+        let y = s.dir * s.dist / (1.0 - 1e-9);
+        assert!((y - (c + DVec3::Z)).length() < 1e-6, "{y}");
     }
 }

@@ -1,7 +1,9 @@
 //! Emissive spheres, discs and rectangles become area lights: the shape's
 //! surface is carried into world space by the object's transforms (any
 //! affine map for discs and rectangles, which stay flat; a sphere must keep
-//! its shape) and its `samples` read.
+//! its shape) and its `samples` read. An emissive sphere inside CSG lights
+//! the scene too, as a *clipped* light: built in the operation's space and
+//! placed with it, its samples count only where the solid kept its surface.
 //!
 //! ```text
 //! rectangle { bottom_left <-1, 6, 0>  top_left <-1, 6, 2>  bottom_right <1, 6, 0>  material lamp  samples 8 }
@@ -104,9 +106,20 @@ impl Builder<'_> {
             },
             None => None,
         };
-        let Some(local) = local.filter(|_| emit != crate::scene::Colour::ZERO && !in_csg) else {
+        let glows = emit != crate::scene::Colour::ZERO;
+        let Some(local) = local.filter(|_| glows) else {
             if let Some((_, at)) = n {
-                self.samples_unused(at, in_csg);
+                self.samples_unused(at);
+            } else if glows {
+                // Seen, but sending no light: say so rather than leave the
+                // user to wonder why the room stays dark.
+                self.warn(
+                    kw.span,
+                    format!(
+                        "this emissive `{}` glows where it is seen but lights nothing: only spheres, discs and rectangles are area lights (add one, or a `light`, beside it)",
+                        kw.node
+                    ),
+                );
             }
             return;
         };
@@ -125,8 +138,18 @@ impl Builder<'_> {
             surface,
             emit,
             samples: n.map(|n| n.0),
-            two_sided: false,
+            // In CSG a cutter's surface faces inward; which side emits is
+            // left to the visibility test of a clipped light.
+            two_sided: in_csg,
+            clipped: in_csg,
         });
+    }
+
+    /// The area lights made since there were `before` of them (inside a CSG
+    /// operation, in its own space), placed by the operation's `xf`.
+    pub(super) fn place_lights_since(&mut self, before: usize, xf: &Transform, at: Span) {
+        let lights = self.scene.area_lights.split_off(before);
+        self.place_area_lights(&lights, xf, at);
     }
 
     /// The area lights of an object value, placed by `xf`.
@@ -149,16 +172,11 @@ impl Builder<'_> {
         }
     }
 
-    fn samples_unused(&mut self, at: Span, in_csg: bool) {
-        let why = if in_csg {
-            "inside CSG an emissive object glows but lights nothing"
-        } else {
-            "`samples` is for emissive spheres, discs and rectangles (area lights)"
-        };
+    fn samples_unused(&mut self, at: Span) {
         self.err(
             Error::new(at, "`samples` has no effect here")
                 .label("not an area light")
-                .help(why),
+                .help("`samples` is for emissive spheres, discs and rectangles (area lights)"),
         );
     }
 }

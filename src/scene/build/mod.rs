@@ -678,7 +678,58 @@ impl<'p> Builder<'p> {
         {
             self.scene.settings.seed = n as u64;
         }
+        if let Some(q) = p.take("adaptive") {
+            self.scene.settings.adaptive = self.adaptive_block(&q.values[0], q.name.span);
+        }
         self.finish("render", p);
+    }
+
+    /// `adaptive { threshold T  max_samples M }` inside `render` (whose
+    /// `samples` is read already): T > 0 (default 0.1), M from `samples` + 1
+    /// to 16 (default twice `samples`, at most 16). A pixel needs two
+    /// samples or more for them to disagree.
+    fn adaptive_block(&mut self, item: &Item, at: Span) -> Option<super::Adaptive> {
+        let Item::Block(block) = item else {
+            self.err(
+                Error::new(
+                    item.span(),
+                    format!("expected a block, found {}", item.describe()),
+                )
+                .label("not a block")
+                .help("e.g. `adaptive { threshold 0.1  max_samples 8 }`"),
+            );
+            return None;
+        };
+        let mut p = self.params("adaptive", block, &params::ADAPTIVE);
+        let n = self.scene.settings.samples;
+        let threshold = match p.take("threshold") {
+            Some(q) => self.checked(&q.values[0], |x| x > 0.0 && x.is_finite(), "greater than 0"),
+            None => Some(0.1),
+        };
+        let max_samples = match p.take("max_samples") {
+            Some(q) => self.integer(&q.values[0], 1, super::MAX_SAMPLES),
+            None => Some((2 * n).min(super::MAX_SAMPLES)),
+        };
+        self.finish("adaptive", p);
+        let (threshold, max_samples) = (threshold?, max_samples?);
+        if n < 2 || max_samples <= n {
+            let why = if n < 2 {
+                "a pixel's samples are compared: give `samples 2` or more before `adaptive`"
+                    .to_string()
+            } else {
+                format!("`max_samples` must exceed `samples` ({n}) to add any")
+            };
+            self.err(
+                Error::new(at, "adaptive sampling has nothing to do here")
+                    .label(format!("with `samples {n}`"))
+                    .help(why),
+            );
+            return None;
+        }
+        Some(super::Adaptive {
+            threshold,
+            max_samples,
+        })
     }
 
     fn transfer_value(&mut self, item: &Item) -> Option<Transfer> {

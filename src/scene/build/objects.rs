@@ -231,7 +231,9 @@ impl Builder<'_> {
                     csg: ctx.csg,
                     outer: Transform::IDENTITY,
                 };
+                let lights = self.scene.area_lights.len();
                 let shapes = self.children(&children, inner);
+                self.place_lights_since(lights, &total, kw.span);
                 if shapes.is_empty() {
                     Vec::new()
                 } else {
@@ -271,7 +273,10 @@ impl Builder<'_> {
                     );
                     Vec::new()
                 } else {
+                    let lights = self.scene.area_lights.len();
                     let shapes = self.children(&children, inner);
+                    // Emissive spheres inside were placed in its space.
+                    self.place_lights_since(lights, &total, kw.span);
                     // Its material's solid patterns live in the block's space.
                     let csg = Csg::new(op, shapes).texture_space(mat);
                     vec![wrap(Box::new(csg), total)]

@@ -144,6 +144,16 @@ pub const RENDER: Schema = Schema {
             "`regular`, `random`, `jittered` or `multijittered`",
         ),
         spec("seed", 1, "a whole number"),
+        spec("adaptive", 1, "a block `{ threshold …  max_samples … }`"),
+    ],
+    object: false,
+    children: false,
+};
+
+pub const ADAPTIVE: Schema = Schema {
+    own: &[
+        spec("threshold", 1, "a number greater than 0"),
+        spec("max_samples", 1, "a whole number of samples per pixel side"),
     ],
     object: false,
     children: false,
