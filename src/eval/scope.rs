@@ -1,0 +1,88 @@
+//! Names in blocks: each block (file, loop iteration, call) binds its own,
+//! lookups go outwards, and a function keeps the scope it was declared in.
+
+use super::*;
+
+#[derive(Clone)]
+pub(super) enum Binding {
+    /// `None` when its definition failed (already reported).
+    Value(Option<Value>),
+    /// A function and the scope it was declared in.
+    Function(Arc<FnDef>, Rc<Scope>),
+}
+
+/// One block's names; lookups go outwards. A block binds few names, so a
+/// list searched from the end is cheaper than a hash map (a loop makes one
+/// scope per iteration).
+pub(super) struct Scope {
+    pub(super) vars: RefCell<Vec<(String, Binding, Option<Span>)>>,
+    pub(super) parent: Option<Rc<Scope>>,
+}
+
+impl Scope {
+    pub(super) fn root() -> Rc<Scope> {
+        Rc::new(Scope {
+            vars: RefCell::new(Vec::new()),
+            parent: None,
+        })
+    }
+
+    pub(super) fn child(self: &Rc<Scope>) -> Rc<Scope> {
+        Rc::new(Scope {
+            vars: RefCell::new(Vec::new()),
+            parent: Some(self.clone()),
+        })
+    }
+
+    pub(super) fn bind(&self, name: &str, b: Binding, span: Option<Span>) {
+        self.vars.borrow_mut().push((name.to_string(), b, span));
+    }
+
+    pub(super) fn get(&self, name: &str) -> Option<Binding> {
+        let mut s = Some(self);
+        while let Some(scope) = s {
+            if let Some((_, b, _)) = scope.vars.borrow().iter().rev().find(|(n, ..)| n == name) {
+                return Some(b.clone());
+            }
+            s = scope.parent.as_deref();
+        }
+        None
+    }
+
+    /// Where `name` was bound in this very scope, if it was.
+    pub(super) fn here(&self, name: &str) -> Option<Option<Span>> {
+        self.vars
+            .borrow()
+            .iter()
+            .find(|(n, ..)| n == name)
+            .map(|(.., s)| *s)
+    }
+
+    /// Every name visible here (for suggestions).
+    pub(super) fn names(&self) -> Vec<String> {
+        let mut v: Vec<String> = self.vars.borrow().iter().map(|(n, ..)| n.clone()).collect();
+        if let Some(p) = &self.parent {
+            v.extend(p.names());
+        }
+        v
+    }
+
+    /// The numbers visible here, for `implicit` equations (not `x`, `y`,
+    /// `z`: those are the equation's variables).
+    pub(super) fn numbers(&self) -> Vec<(String, f64)> {
+        let mut out: Vec<(String, f64)> = Vec::new();
+        let mut s = Some(self);
+        while let Some(scope) = s {
+            for (k, b, _) in scope.vars.borrow().iter() {
+                if let Binding::Value(Some(Value::Number(v))) = b
+                    && !matches!(k.as_str(), "x" | "y" | "z")
+                    && !out.iter().any(|(n, _)| n == k)
+                {
+                    out.push((k.clone(), *v));
+                }
+            }
+            s = scope.parent.as_deref();
+        }
+        out
+    }
+}

@@ -1,0 +1,72 @@
+//! Where generated items came from, for messages: "in iteration i = 7 of
+//! the loop at scene.rt:9:1", "in `pillar` called from scene.rt:14:5 with
+//! h = 1.7".
+
+use super::*;
+
+/// Where generated items came from: loop iterations and calls, innermost
+/// first, put into words only when a message needs them.
+#[derive(Debug, PartialEq)]
+pub struct Trace {
+    pub(super) frame: Frame,
+    pub(super) parent: Option<Arc<Trace>>,
+}
+
+#[derive(Debug, PartialEq)]
+pub(super) enum Frame {
+    Loop {
+        var: String,
+        value: Value,
+        at: Span,
+    },
+    Call {
+        name: String,
+        at: Span,
+        args: Vec<(String, Value)>,
+    },
+}
+
+impl Trace {
+    /// "in iteration i = 7 of the loop at scene.rt:9:1", "in `pillar`
+    /// called from scene.rt:14:5 with h = 1.7", innermost first.
+    pub fn lines(&self, sources: &crate::lang::source::Sources) -> Vec<String> {
+        let mut out = Vec::new();
+        let mut t = Some(self);
+        while let Some(trace) = t {
+            out.push(match &trace.frame {
+                Frame::Loop { var, value, at } => format!(
+                    "in iteration {var} = {} of the loop at {}",
+                    value.show(),
+                    sources.location(*at)
+                ),
+                Frame::Call { name, at, args } => {
+                    let mut line = format!("in `{name}` called from {}", sources.location(*at));
+                    if !args.is_empty() {
+                        let shown: Vec<String> = args
+                            .iter()
+                            .map(|(n, v)| format!("{n} = {}", v.show()))
+                            .collect();
+                        line.push_str(" with ");
+                        line.push_str(&shown.join(", "));
+                    }
+                    line
+                }
+            });
+            t = trace.parent.as_deref();
+        }
+        out
+    }
+}
+
+/// The lines of a trace (innermost first) as shown under a message: deep
+/// recursion keeps its innermost three and outermost two calls.
+pub fn trail(lines: &[String]) -> String {
+    if lines.len() <= 6 {
+        return lines.join("\n");
+    }
+    let n = lines.len();
+    let mut out: Vec<String> = lines[..3].to_vec();
+    out.push(format!("… {} more …", n - 5));
+    out.extend_from_slice(&lines[n - 2..]);
+    out.join("\n")
+}
