@@ -324,12 +324,68 @@ fn flag_ranges_are_stated_and_checked_first() {
         assert!(e.contains(flag) && e.contains(range), "{flag} {value}: {e}");
         assert!(start.elapsed().as_secs() < 5);
     }
-    // A scene's own `render` block has its own range: a scene error.
+    // A scene's own `render` block has the same range: a scene error.
     let (_d, wide) = scene_file(&SCENE.replace("width 32", "width 70000"));
     let o = raytrace(&[wide.as_os_str(), "-o".as_ref(), out.as_os_str()]);
     assert_eq!(o.status.code(), Some(1));
-    assert!(stderr(&o).contains("from 1 to 16384"), "{}", stderr(&o));
+    assert!(stderr(&o).contains("from 1 to 65535"), "{}", stderr(&o));
     assert!(!out.exists());
+}
+
+/// Issue 17: one set of size limits, whichever sets the size. The command
+/// line allowed 65535 a side while a scene's `render` block stopped at
+/// 16384; now both take 1 to 65535 a side and both meet the 100-megapixel
+/// guard before the first ray. Each limit is checked at its edge.
+#[test]
+fn a_scene_and_the_command_line_share_the_size_limits() {
+    let _watchdog = crate::watchdog::start();
+    let render =
+        |w: u32, h: u32| SCENE.replace("width 32  height 24", &format!("width {w}  height {h}"));
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out.png");
+    let run = |src: &str, extra: &[&str]| {
+        let scene = dir.path().join("scene.rt");
+        std::fs::write(&scene, src).unwrap();
+        let mut args: Vec<&std::ffi::OsStr> =
+            vec![scene.as_os_str(), "-o".as_ref(), out.as_os_str()];
+        args.extend(extra.iter().map(std::ffi::OsStr::new));
+        let start = std::time::Instant::now();
+        let o = raytrace(&args);
+        (o, start.elapsed())
+    };
+    // The widest side both ways: a 65535 × 1 strip renders, from the scene
+    // and from the command line alike.
+    for (src, extra) in [
+        (render(65535, 1), &[][..]),
+        (SCENE.to_string(), &["--width=65535", "--height=1"][..]),
+    ] {
+        let (o, _) = run(&src, extra);
+        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+        let img = image::open(&out).unwrap();
+        assert_eq!((img.width(), img.height()), (65535, 1));
+        std::fs::remove_file(&out).unwrap();
+    }
+    // One past it, each side, from the scene: the message states the range.
+    for src in [render(65536, 1), render(1, 65536)] {
+        let (o, _) = run(&src, &[]);
+        assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+        assert!(stderr(&o).contains("from 1 to 65535"), "{}", stderr(&o));
+        assert!(!out.exists());
+    }
+    // Over 100 megapixels from the scene (20000 × 20000, within the side
+    // limit, which 16384 refused before): the same guard as the flags,
+    // quickly and writing nothing; `--check` renders nothing and passes.
+    let (o, took) = run(&render(20000, 20000), &[]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("400.0 megapixels") && stderr(&o).contains("--allow-large"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(took.as_secs() < 5 && !out.exists());
+    // Exactly 100 megapixels is allowed (checked, not rendered).
+    let (o, _) = run(&render(10000, 10000), &["--check"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
 }
 
 /// Issue 17: `-o` naming the scene, an include or a texture, by any
