@@ -10,6 +10,7 @@ mod golden;
 mod hostile;
 mod lang;
 mod looks;
+mod material_parts;
 mod mesh;
 mod placement;
 mod render;
