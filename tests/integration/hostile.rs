@@ -472,7 +472,7 @@ fn unwritable_targets_are_clear_errors() {
     // runs): /proc. The write is refused and nothing appears there.
     if Path::new("/proc/self").exists() {
         let target = Path::new("/proc/raytrace-test-out.png");
-        let out = render_to(&scene, &target, &[]);
+        let out = render_to(&scene, target, &[]);
         assert_refused(&out, "cannot write");
         assert!(!target.exists());
     }
