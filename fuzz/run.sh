@@ -18,14 +18,14 @@ cd "$(dirname "$0")"
 mkdir -p corpus/$t
 log=$(mktemp)
 trap 'rm -f "$log"' EXIT
-start=$(date +%s)
 # (A pipeline's status is tee's: success is judged from the log below.)
 RUSTC_BOOTSTRAP=1 cargo fuzz run -s none -O "$t" corpus/$t seeds/$t -- \
   -max_len=$len -timeout=10 -rss_limit_mb=2048 -max_total_time="$secs" -print_final_stats=1 "$@" \
   2>&1 | tee "$log"
 stat() { sed -n "s/^stat::$1: *//p" "$log" | tail -n 1; }
 runs=$(stat number_of_executed_units)
-took=$(( $(date +%s) - start ))
+# libFuzzer's own "Done N runs in T second(s)": fuzzing time, not building.
+took=$(sed -n 's/^Done [0-9]* runs in \([0-9]*\) second.*/\1/p' "$log" | tail -n 1)
 crash=$(sed -n 's/.*Test unit written to \(.*\)$/\1/p' "$log" | tail -n 1)
 rate=$(stat average_exec_per_sec)
 echo "fuzz $t: ${took:-?} s, ${runs:-?} executions, ${rate:-?}/s, corpus $(ls corpus/$t | wc -l), ${crash:+CRASH: }${crash:-no crash}"
