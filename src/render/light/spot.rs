@@ -58,3 +58,27 @@ mod tests {
         assert!(sample(DVec3::Y * 8.0, -DVec3::Y, a, f, Colour::ONE, DVec3::X * 8.0).is_none());
     }
 }
+
+/// The fade between `angle` and `falloff` is the smoothstep 3t² − 2t³ of
+/// t, the cosine's place between the two (mutation testing: "between 0 and
+/// 1" alone let t²/(3 − 2t) through).
+#[cfg(test)]
+mod fade {
+    use super::*;
+
+    #[test]
+    fn the_fade_is_the_smoothstep_of_the_cosine() {
+        let (a, f) = (25f64.to_radians().cos(), 35f64.to_radians().cos());
+        for i in 1..20 {
+            let t = i as f64 / 20.0;
+            let k = cone(f + t * (a - f), a, f);
+            assert!(
+                (k - (3.0 * t * t - 2.0 * t * t * t)).abs() < 1e-12,
+                "t {t}: {k}"
+            );
+            // Symmetric about the middle, where it is one half.
+            let mirror = cone(f + (1.0 - t) * (a - f), a, f);
+            assert!((k + mirror - 1.0).abs() < 1e-12, "t {t}");
+        }
+    }
+}
