@@ -82,3 +82,23 @@ mod fade {
         }
     }
 }
+
+/// A sample's direction and distance are those from the shading point to
+/// the light, whatever the point (the other tests shade at the origin,
+/// where position − from and position + from agree).
+#[cfg(test)]
+mod towards {
+    use super::*;
+
+    #[test]
+    fn the_sample_points_from_the_shading_point_to_the_light() {
+        let (a, f) = (25f64.to_radians().cos(), 35f64.to_radians().cos());
+        let from = DVec3::new(1.0, 0.5, -2.0);
+        let s = sample(DVec3::Y * 8.0, -DVec3::Y, a, f, Colour::ONE, from).unwrap();
+        let to = DVec3::new(-1.0, 7.5, 2.0);
+        assert!((s.dist - to.length()).abs() < 1e-12);
+        assert!((s.dir - to / to.length()).length() < 1e-12);
+        // Inside the cone (17° off the axis, the cone is 25°): full colour.
+        assert_eq!(s.radiance, Colour::ONE);
+    }
+}
