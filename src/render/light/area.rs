@@ -196,3 +196,36 @@ mod spread {
         assert_eq!(point_on(&d, (0.3, 0.8)).1, DVec3::NEG_Y);
     }
 }
+
+/// A sphere light's area, and a sample's reach: the shadow ray must stop
+/// short of the point it aims at, which lies on the light's own surface.
+#[cfg(test)]
+mod reach {
+    use super::*;
+    use crate::scene::Colour;
+
+    #[test]
+    fn a_sphere_has_area_four_pi_r_squared() {
+        let s = LightSurface::Sphere {
+            centre: DVec3::ONE,
+            radius: 0.5,
+        };
+        assert!((area(&s) - std::f64::consts::PI).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_sample_stops_short_of_the_light() {
+        let light = AreaLight {
+            surface: LightSurface::Sphere {
+                centre: DVec3::new(0.0, 0.0, 5.0),
+                radius: 1.0,
+            },
+            emit: Colour::ONE,
+            samples: None,
+            two_sided: false,
+        };
+        // u = (1, ·): n = −z, the sphere's point nearest the origin, 4 away.
+        let s = sample(&light, DVec3::ZERO, (1.0, 0.0)).unwrap();
+        assert!(s.dist < 4.0 && s.dist > 4.0 * (1.0 - 1e-6), "{}", s.dist);
+    }
+}
