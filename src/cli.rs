@@ -37,13 +37,13 @@ pub struct Args {
     #[arg(short, long, required_unless_present = "check")]
     pub output: Option<PathBuf>,
 
-    /// Image width in pixels, 1 to 65535 (overrides the scene's `render`
-    /// block).
+    /// Image width in pixels, 1 to 65535, as in a scene's `render` block
+    /// (overrides it).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=MAX_SIDE as i64))]
     pub width: Option<u32>,
 
-    /// Image height in pixels, 1 to 65535 (overrides the scene's `render`
-    /// block).
+    /// Image height in pixels, 1 to 65535, as in a scene's `render` block
+    /// (overrides it).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=MAX_SIDE as i64))]
     pub height: Option<u32>,
 

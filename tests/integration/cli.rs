@@ -1,14 +1,6 @@
 //! The command line as a user meets it: exit codes, files written or not.
 
 use crate::support::*;
-use std::process::{Command, Output};
-
-fn raytrace(args: &[&std::ffi::OsStr]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_raytrace"))
-        .args(args)
-        .output()
-        .expect("run raytrace")
-}
 
 const SCENE: &str = "
 camera { position <0, 0, 4>  look_at <0, 0, 0>  fov 40 }
@@ -22,14 +14,8 @@ fn renders_a_png_of_the_requested_size() {
     let _watchdog = crate::watchdog::start();
     let (dir, scene) = scene_file(SCENE);
     let out = dir.path().join("out.png");
-    let o = raytrace(&[
-        scene.as_os_str(),
-        "-o".as_ref(),
-        out.as_os_str(),
-        "--width".as_ref(),
-        "40".as_ref(),
-    ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let o = render_to(&scene, &out, &["--width", "40"]);
+    assert!(o.status.success(), "{}", stderr(&o));
     let img = image::open(&out).unwrap();
     assert_eq!((img.width(), img.height()), (40, 24));
     // Nothing else left behind (no temporary files).
@@ -42,12 +28,8 @@ fn every_output_format_is_written() {
     let (dir, scene) = scene_file(SCENE);
     for ext in ["png", "jpg", "jpeg", "exr", "hdr", "ppm"] {
         let out = dir.path().join(format!("out.{ext}"));
-        let o = raytrace(&[scene.as_os_str(), "-o".as_ref(), out.as_os_str()]);
-        assert!(
-            o.status.success(),
-            "{ext}: {}",
-            String::from_utf8_lossy(&o.stderr)
-        );
+        let o = render_to(&scene, &out, &[]);
+        assert!(o.status.success(), "{ext}: {}", stderr(&o));
         assert!(image::open(&out).is_ok(), "{ext} decodes");
     }
 }
@@ -69,12 +51,8 @@ sphere { radius 1  material { colour rgb(0.2, 0.2, 0.2) } }",
     let srgb = 1.055 * 0.2f32.powf(1.0 / 2.4) - 0.055;
     for ext in ["png", "jpg", "exr", "hdr", "ppm"] {
         let out = dir.path().join(format!("out.{ext}"));
-        let o = raytrace(&[scene.as_os_str(), "-o".as_ref(), out.as_os_str()]);
-        assert!(
-            o.status.success(),
-            "{ext}: {}",
-            String::from_utf8_lossy(&o.stderr)
-        );
+        let o = render_to(&scene, &out, &[]);
+        assert!(o.status.success(), "{ext}: {}", stderr(&o));
         let img = image::open(&out).unwrap_or_else(|e| panic!("{ext}: {e}"));
         assert_eq!((img.width(), img.height()), (30, 20), "{ext}");
         // The centre pixel looks at the sphere; the corner at the background.
@@ -101,9 +79,9 @@ fn unknown_extension_fails_before_rendering_and_writes_nothing() {
     let _watchdog = crate::watchdog::start();
     let (dir, scene) = scene_file(SCENE);
     let out = dir.path().join("out.gif");
-    let o = raytrace(&[scene.as_os_str(), "-o".as_ref(), out.as_os_str()]);
+    let o = render_to(&scene, &out, &[]);
     assert!(!o.status.success());
-    let err = String::from_utf8_lossy(&o.stderr);
+    let err = stderr(&o);
     assert!(err.contains("out.gif") && err.contains(".png"), "{err}");
     assert!(!out.exists());
 }
@@ -114,7 +92,7 @@ fn a_bad_scene_leaves_an_existing_image_untouched() {
     let (dir, scene) = scene_file("sphere { radius 1 ");
     let out = dir.path().join("out.png");
     std::fs::write(&out, b"precious").unwrap();
-    let o = raytrace(&[scene.as_os_str(), "-o".as_ref(), out.as_os_str()]);
+    let o = render_to(&scene, &out, &[]);
     assert!(!o.status.success());
     assert_eq!(std::fs::read(&out).unwrap(), b"precious");
     assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 2);
@@ -125,7 +103,7 @@ fn check_builds_without_rendering() {
     let _watchdog = crate::watchdog::start();
     let (_dir, scene) = scene_file(SCENE);
     let o = raytrace(&[scene.as_os_str(), "--check".as_ref()]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(o.status.success(), "{}", stderr(&o));
     let (_dir, bad) = scene_file("sphere { radius -1 }");
     let o = raytrace(&[bad.as_os_str(), "--check".as_ref()]);
     assert!(!o.status.success());
@@ -136,14 +114,9 @@ fn stats_report_rays() {
     let _watchdog = crate::watchdog::start();
     let (dir, scene) = scene_file(SCENE);
     let out = dir.path().join("out.png");
-    let o = raytrace(&[
-        scene.as_os_str(),
-        "-o".as_ref(),
-        out.as_os_str(),
-        "--stats".as_ref(),
-    ]);
+    let o = render_to(&scene, &out, &["--stats"]);
     assert!(o.status.success());
-    let err = String::from_utf8_lossy(&o.stderr);
+    let err = stderr(&o);
     // 32 x 24 primary rays, one per pixel.
     assert!(err.contains("primary 768"), "{err}");
     assert!(err.contains("rays/s"), "{err}");
@@ -161,9 +134,7 @@ fn bad_flags_are_refused() {
         &["--width", "abc"],
         &["--frobnicate"],
     ] {
-        let mut args = vec![scene.as_os_str(), "-o".as_ref(), out.as_os_str()];
-        args.extend(flags.iter().map(std::ffi::OsStr::new));
-        let o = raytrace(&args);
+        let o = render_to(&scene, &out, flags);
         assert!(!o.status.success(), "{flags:?} accepted");
         assert!(!out.exists());
     }
@@ -181,17 +152,9 @@ fn huge_images_are_refused_before_allocating() {
     let _watchdog = crate::watchdog::start();
     let (dir, scene) = scene_file(SCENE);
     let out = dir.path().join("out.png");
-    let o = raytrace(&[
-        scene.as_os_str(),
-        "-o".as_ref(),
-        out.as_os_str(),
-        "--width".as_ref(),
-        "60000".as_ref(),
-        "--height".as_ref(),
-        "60000".as_ref(),
-    ]);
+    let o = render_to(&scene, &out, &["--width", "60000", "--height", "60000"]);
     assert_eq!(o.status.code(), Some(2));
-    let err = String::from_utf8_lossy(&o.stderr);
+    let err = stderr(&o);
     assert!(err.contains("--allow-large"), "{err}");
     // 3.6 gigapixels at 15 bytes each (film and 8-bit copy): 50.3 GiB.
     assert!(
@@ -201,14 +164,8 @@ fn huge_images_are_refused_before_allocating() {
     assert!(!out.exists());
     // An .exr's copy is f32: 24 bytes a pixel, 80.5 GiB.
     let exr = dir.path().join("out.exr");
-    let o = raytrace(&[
-        scene.as_os_str(),
-        "-o".as_ref(),
-        exr.as_os_str(),
-        "--width=60000".as_ref(),
-        "--height=60000".as_ref(),
-    ]);
-    let err = String::from_utf8_lossy(&o.stderr);
+    let o = render_to(&scene, &exr, &["--width=60000", "--height=60000"]);
+    let err = stderr(&o);
     assert!(err.contains("80.5 GiB"), "{err}");
 }
 
@@ -219,17 +176,12 @@ fn an_unbounded_implicit_surface_renders_with_a_warning() {
         "camera { position <0, 2, 5>  look_at <0, 0, 0> }\nrender { width 8  height 6 }\nimplicit \"y\" { }\n",
     );
     let out = dir.path().join("out.png");
-    let o = raytrace(&[scene.as_os_str(), "-o".as_ref(), out.as_os_str()]);
+    let o = render_to(&scene, &out, &[]);
     assert!(o.status.success());
-    let err = String::from_utf8_lossy(&o.stderr);
+    let err = stderr(&o);
     assert!(err.contains("scene.rt:3:11: no bounding box"), "{err}");
     assert!(out.exists());
-    let o = raytrace(&[
-        scene.as_os_str(),
-        "-o".as_ref(),
-        out.as_os_str(),
-        "--quiet".as_ref(),
-    ]);
+    let o = render_to(&scene, &out, &["--quiet"]);
     assert!(o.stderr.is_empty(), "--quiet is quiet");
 }
 
@@ -241,10 +193,6 @@ light { position <2, 5, 5> intensity 1 }
 sphere { radius 1 material { colour rgb(1, 1, 1) reflect 0.5 } }
 plane { normal <0, 1, 0> material { colour rgb(1, 1, 1) reflect 0.5 } translate <0, -1, 0> }
 ";
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
 
 /// Issue 17: the exit codes are decided, stated in `--help` and the
 /// README, and each is what the program does.
@@ -274,12 +222,7 @@ fn exit_codes_are_documented_and_kept() {
         Some(1)
     );
     // 2: the command line (clap's and ours).
-    let o = raytrace(&[
-        scene.as_os_str(),
-        "-o".as_ref(),
-        out.as_os_str(),
-        "--frob".as_ref(),
-    ]);
+    let o = render_to(&scene, &out, &["--frob"]);
     assert_eq!(o.status.code(), Some(2));
     let o = raytrace(&[scene.as_os_str(), "-o".as_ref(), "x.gif".as_ref()]);
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
@@ -294,7 +237,7 @@ fn exit_codes_are_documented_and_kept() {
     ]);
     assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
     // 0.
-    let o = raytrace(&[scene.as_os_str(), "-o".as_ref(), out.as_os_str()]);
+    let o = render_to(&scene, &out, &[]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
 }
 
@@ -324,12 +267,65 @@ fn flag_ranges_are_stated_and_checked_first() {
         assert!(e.contains(flag) && e.contains(range), "{flag} {value}: {e}");
         assert!(start.elapsed().as_secs() < 5);
     }
-    // A scene's own `render` block has its own range: a scene error.
+    // A scene's own `render` block has the same range: a scene error.
     let (_d, wide) = scene_file(&SCENE.replace("width 32", "width 70000"));
-    let o = raytrace(&[wide.as_os_str(), "-o".as_ref(), out.as_os_str()]);
+    let o = render_to(&wide, &out, &[]);
     assert_eq!(o.status.code(), Some(1));
-    assert!(stderr(&o).contains("from 1 to 16384"), "{}", stderr(&o));
+    assert!(stderr(&o).contains("from 1 to 65535"), "{}", stderr(&o));
     assert!(!out.exists());
+}
+
+/// Issue 17: one set of size limits, whichever sets the size. The command
+/// line allowed 65535 a side while a scene's `render` block stopped at
+/// 16384; now both take 1 to 65535 a side and both meet the 100-megapixel
+/// guard before the first ray. Each limit is checked at its edge.
+#[test]
+fn a_scene_and_the_command_line_share_the_size_limits() {
+    let _watchdog = crate::watchdog::start();
+    let render =
+        |w: u32, h: u32| SCENE.replace("width 32  height 24", &format!("width {w}  height {h}"));
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out.png");
+    let run = |src: &str, extra: &[&str]| {
+        let scene = dir.path().join("scene.rt");
+        std::fs::write(&scene, src).unwrap();
+        let start = std::time::Instant::now();
+        let o = render_to(&scene, &out, extra);
+        (o, start.elapsed())
+    };
+    // The widest side both ways: a 65535 × 1 strip renders, from the scene
+    // and from the command line alike.
+    for (src, extra) in [
+        (render(65535, 1), &[][..]),
+        (SCENE.to_string(), &["--width=65535", "--height=1"][..]),
+    ] {
+        let (o, _) = run(&src, extra);
+        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+        let img = image::open(&out).unwrap();
+        assert_eq!((img.width(), img.height()), (65535, 1));
+        std::fs::remove_file(&out).unwrap();
+    }
+    // One past it, each side, from the scene: the message states the range.
+    for src in [render(65536, 1), render(1, 65536)] {
+        let (o, _) = run(&src, &[]);
+        assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+        assert!(stderr(&o).contains("from 1 to 65535"), "{}", stderr(&o));
+        assert!(!out.exists());
+    }
+    // Over 100 megapixels from the scene (20000 × 20000, within the side
+    // limit, which 16384 refused before): the same guard as the flags,
+    // quickly and writing nothing; `--check` renders nothing and passes.
+    let (o, took) = run(&render(20000, 20000), &[]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("400.0 megapixels") && stderr(&o).contains("--allow-large"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(took.as_secs() < 5 && !out.exists());
+    // Exactly 100 megapixels is allowed (checked, not rendered).
+    let (o, _) = run(&render(10000, 10000), &["--check"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
 }
 
 /// Issue 17: `-o` naming the scene, an include or a texture, by any
@@ -363,7 +359,7 @@ fn the_output_may_not_be_one_of_the_scenes_files() {
         d.join("tex.png"),
         d.join("sub/../sub/../tex.png"),
     ] {
-        let o = raytrace(&[scene.as_os_str(), "-o".as_ref(), target.as_os_str()]);
+        let o = render_to(&scene, &target, &[]);
         assert_eq!(
             o.status.code(),
             Some(2),
@@ -429,7 +425,7 @@ fn output_problems_are_found_before_rendering() {
     // 250 characters: the temporary's name is short, so this is written.
     let (dir, small) = scene_file(SCENE);
     let fine = dir.path().join("m".repeat(246) + ".png");
-    let o = raytrace(&[small.as_os_str(), "-o".as_ref(), fine.as_os_str()]);
+    let o = render_to(&small, &fine, &[]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(image::open(&fine).is_ok());
 }
@@ -457,15 +453,7 @@ fn signals_exit_with_128_plus_their_number_and_clean_up() {
     let out = dir.path().join("out.png");
     std::fs::write(&out, b"the previous image").unwrap();
     for (signal, number) in [("-INT", 2), ("-TERM", 15), ("-HUP", 1), ("-USR1", 10)] {
-        let mut child = Command::new(env!("CARGO_BIN_EXE_raytrace"))
-            .args([
-                scene.as_os_str(),
-                "-q".as_ref(),
-                "-o".as_ref(),
-                out.as_os_str(),
-            ])
-            .spawn()
-            .unwrap();
+        let mut child = spawn_render(&scene, &out);
         // Wait until the handlers are installed (the process's caught-signal
         // mask shows it), so the signal meets them and not the default.
         let start = std::time::Instant::now();
@@ -474,22 +462,12 @@ fn signals_exit_with_128_plus_their_number_and_clean_up() {
             std::thread::sleep(std::time::Duration::from_millis(10));
         }
         std::thread::sleep(std::time::Duration::from_millis(200));
-        let killed = Command::new("kill")
-            .args([signal, &child.id().to_string()])
-            .status()
-            .unwrap();
-        assert!(killed.success());
+        send_signal(signal, child.id());
         let status = child.wait().unwrap();
         assert_eq!(status.code(), Some(128 + number), "{signal}: {status:?}");
         assert_eq!(std::fs::read(&out).unwrap(), b"the previous image");
-        let names: Vec<_> = std::fs::read_dir(dir.path())
-            .unwrap()
-            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-            .collect();
-        assert!(
-            names.iter().all(|n| !n.ends_with(".tmp")),
-            "{signal}: {names:?}"
-        );
+        let left = temporaries(dir.path());
+        assert!(left.is_empty(), "{signal}: {left:?}");
     }
 }
 

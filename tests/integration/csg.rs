@@ -3,7 +3,7 @@
 //! tori, cones, nested results), checked against a second way of building
 //! the same solid, on crossing lists and on rendered pictures.
 
-use crate::support::{max_difference, project_root, render_path, scene_file};
+use crate::support::{max_difference, pixels_differing, project_root, render_path, scene_file};
 use raytrace::geometry::{DVec3, Ray};
 use raytrace::render::Film;
 use raytrace::shapes::{Hit, Shape};
@@ -355,12 +355,7 @@ fn bounded_implicit_cut_by_its_box_equals_its_primitive_twin() {
         );
         // And the pictures agree.
         let (fi, fp) = (render(&wrap(implicit)), render(&wrap(primitive)));
-        let differ = fi
-            .pixels
-            .iter()
-            .zip(&fp.pixels)
-            .filter(|(x, y)| (0..3).any(|k| (x[k] - y[k]).abs() > 1e-3))
-            .count();
+        let differ = pixels_differing(&fi, &fp, 1e-3);
         assert_eq!(differ, 0, "{implicit}: {differ} pixels differ");
     }
 }

@@ -4,20 +4,15 @@
 //! never a panic or a hang. The crashers the fuzzers found live here too
 //! (or beside their fix as unit tests).
 
-use crate::support::{project_root, scene_file};
+use crate::support::{
+    project_root, raytrace, render_to, scene_file, send_signal, spawn_render, stderr, temporaries,
+};
 use std::path::Path;
 use std::process::{Command, Output};
 
-fn raytrace(args: &[&std::ffi::OsStr]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_raytrace"))
-        .args(args)
-        .output()
-        .expect("run raytrace")
-}
-
 /// A refusal: a non-zero exit with a message and no panic.
 fn assert_refused(out: &Output, expect: &str) {
-    let err = String::from_utf8_lossy(&out.stderr);
+    let err = stderr(out);
     assert!(!out.status.success(), "should fail: {err}");
     assert!(!err.contains("panicked"), "{err}");
     assert!(err.contains(expect), "expected `{expect}` in: {err}");
@@ -426,27 +421,12 @@ fn an_interrupted_render_leaves_the_old_image_and_no_temporary() {
          sphere { radius 1 }",
     );
     let out = dir.path().join("out.png");
-    let temporaries = || -> Vec<String> {
-        std::fs::read_dir(dir.path())
-            .unwrap()
-            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-            .filter(|n| n.ends_with(".tmp"))
-            .collect()
-    };
     for signal in ["-INT", "-KILL"] {
         std::fs::write(&out, b"the previous image").unwrap();
-        let mut child = Command::new(env!("CARGO_BIN_EXE_raytrace"))
-            .args([
-                scene.as_os_str(),
-                "-q".as_ref(),
-                "-o".as_ref(),
-                out.as_os_str(),
-            ])
-            .spawn()
-            .unwrap();
+        let mut child = spawn_render(&scene, &out);
         // Wait for the write to begin (the watchdog bounds the wait).
         loop {
-            if !temporaries().is_empty() {
+            if !temporaries(dir.path()).is_empty() {
                 break;
             }
             if let Some(status) = child.try_wait().unwrap() {
@@ -454,20 +434,20 @@ fn an_interrupted_render_leaves_the_old_image_and_no_temporary() {
             }
             std::thread::sleep(std::time::Duration::from_micros(200));
         }
-        let killed = Command::new("kill")
-            .args([signal, &child.id().to_string()])
-            .status()
-            .unwrap();
-        assert!(killed.success());
+        send_signal(signal, child.id());
         let status = child.wait().unwrap();
         assert_eq!(std::fs::read(&out).unwrap(), b"the previous image");
         if signal == "-INT" {
             assert_eq!(status.code(), Some(130), "{status}");
-            assert!(temporaries().is_empty(), "left behind: {:?}", temporaries());
+            assert!(
+                temporaries(dir.path()).is_empty(),
+                "left behind: {:?}",
+                temporaries(dir.path())
+            );
         } else {
             assert!(!status.success(), "{status}");
             // SIGKILL leaves its temporary (nothing can run); tidy up.
-            for t in temporaries() {
+            for t in temporaries(dir.path()) {
                 std::fs::remove_file(dir.path().join(t)).unwrap();
             }
         }
@@ -492,7 +472,7 @@ fn unwritable_targets_are_clear_errors() {
     // runs): /proc. The write is refused and nothing appears there.
     if Path::new("/proc/self").exists() {
         let target = Path::new("/proc/raytrace-test-out.png");
-        let out = raytrace(&[scene.as_os_str(), "-o".as_ref(), target.as_os_str()]);
+        let out = render_to(&scene, target, &[]);
         assert_refused(&out, "cannot write");
         assert!(!target.exists());
     }
@@ -506,13 +486,9 @@ fn unwritable_targets_are_clear_errors() {
     let privileged = std::fs::write(&probe, b"").is_ok();
     let _ = std::fs::remove_file(&probe);
     let target = ro.path().join("x.png");
-    let out = raytrace(&[scene.as_os_str(), "-o".as_ref(), target.as_os_str()]);
+    let out = render_to(&scene, &target, &[]);
     if privileged {
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        assert!(out.status.success(), "{}", stderr(&out));
     } else {
         assert_refused(&out, "cannot write");
         assert_eq!(std::fs::read_dir(ro.path()).unwrap().count(), 0);
@@ -556,15 +532,7 @@ fn a_full_disk_is_a_clear_error_and_keeps_the_old_image() {
          sphere { radius 2  material { colour marble { a rgb(1, 1, 1)  b rgb(0.1, 0.2, 0.6)  scale 0.1 } } }\n\
          plane { normal <0, 0, 1>  offset -2  material { colour checker { a rgb(1, 0, 0)  b rgb(0, 1, 0)  scale 0.05 } } }\n",
     );
-    let out = raytrace(&[
-        scene.as_os_str(),
-        "-o".as_ref(),
-        old.as_os_str(),
-        "--width".as_ref(),
-        "400".as_ref(),
-        "--height".as_ref(),
-        "400".as_ref(),
-    ]);
+    let out = render_to(&scene, &old, &["--width", "400", "--height", "400"]);
     assert_refused(&out, "No space left on device");
     assert_eq!(std::fs::read(&old).unwrap(), vec![7u8; 40 * 1024]);
     let left: Vec<_> = std::fs::read_dir(&mnt).unwrap().collect();
@@ -591,7 +559,7 @@ fn a_mistake_on_a_huge_line_gives_a_short_report() {
         std::fs::write(&path, src).unwrap();
         let out = raytrace(&[path.as_os_str(), "--check".as_ref()]);
         assert_refused(&out, expect);
-        let err = String::from_utf8_lossy(&out.stderr);
+        let err = stderr(&out);
         assert!(err.contains(place), "{err}");
         assert!(err.len() < 2000, "{} bytes of report", err.len());
     }
@@ -784,7 +752,7 @@ fn a_hundred_thousand_corner_face_draws_in_seconds() {
         "-o".as_ref(),
         out.as_os_str(),
     ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(o.status.success(), "{}", stderr(&o));
     assert!(start.elapsed().as_secs() < 10, "{:?}", start.elapsed());
     // The unit disc seen from 4 away with a 40° field: radius 1 over a
     // half-width of 4 tan 20° is 0.687 of the half-image, so the lit area

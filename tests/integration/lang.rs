@@ -315,7 +315,7 @@ fn numbers_the_user_controls_are_validated() {
     );
     assert_eq!(
         errors("render { width 0.5 }"),
-        ["this must be a whole number from 1 to 16384"]
+        ["this must be a whole number from 1 to 65535"]
     );
     assert_eq!(
         errors("render { max_depth 1000 }"),

@@ -1,7 +1,7 @@
 //! Where the language puts things: the plane's offset, and the space a
 //! texture given to a CSG block is evaluated in.
 
-use crate::support::{render_src, scene_file};
+use crate::support::{pixels_differing, render_src, scene_file};
 use raytrace::geometry::{DVec3, Ray};
 use raytrace::shapes::Shape;
 
@@ -65,12 +65,7 @@ difference {{ box {{ min <-2, -1.5, -1>  max <2, -0.5, 1> }} {c}  material tiles
         "sphere { centre <0.8, 0, 0>  radius 0.9 }",
         "box { min <-0.2, -1.1, 0.3>  max <0.8, -0.1, 1.3> }",
     ));
-    let differ = by_translate
-        .pixels
-        .iter()
-        .zip(&by_centre.pixels)
-        .filter(|(p, q)| (0..3).any(|k| (p[k] - q[k]).abs() > 1e-3))
-        .count();
+    let differ = pixels_differing(&by_translate, &by_centre, 1e-3);
     assert_eq!(differ, 0, "{differ} pixels differ");
     // Both patterns are in view: dark veins and green cells.
     let px = &by_centre.pixels;

@@ -1,7 +1,9 @@
 //! Helpers shared by the end-to-end tests: scenes from text, rendered films.
 
 use raytrace::render::{Film, RenderOptions};
+use std::ffi::OsStr;
 use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Output};
 
 /// Writes `src` to a temporary scene file and returns (dir guard, path).
 pub fn scene_file(src: &str) -> (tempfile::TempDir, PathBuf) {
@@ -57,4 +59,72 @@ pub fn project_root() -> PathBuf {
 /// rewrite the generated files under examples/ (never done unasked).
 pub fn regenerate_fixtures() -> bool {
     std::env::var("RAYTRACE_REGENERATE_FIXTURES").is_ok_and(|v| v == "1")
+}
+
+/// Runs the `raytrace` binary with `args` to the end, capturing its output.
+pub fn raytrace(args: &[&OsStr]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_raytrace"))
+        .args(args)
+        .output()
+        .expect("run raytrace")
+}
+
+/// Runs `raytrace SCENE -o OUT FLAGS…` to the end.
+pub fn render_to(scene: &Path, out: &Path, flags: &[&str]) -> Output {
+    let mut args = vec![scene.as_os_str(), "-o".as_ref(), out.as_os_str()];
+    args.extend(flags.iter().map(OsStr::new));
+    raytrace(&args)
+}
+
+/// The number of pixels where two films of one size differ by more than
+/// `tolerance` in some channel.
+pub fn pixels_differing(a: &Film, b: &Film, tolerance: f32) -> usize {
+    assert_eq!((a.width, a.height), (b.width, b.height));
+    a.pixels
+        .iter()
+        .zip(&b.pixels)
+        .filter(|(p, q)| (0..3).any(|k| (p[k] - q[k]).abs() > tolerance))
+        .count()
+}
+
+/// Starts `raytrace SCENE -q -o OUT` and returns at once (for tests that
+/// interrupt a render).
+pub fn spawn_render(scene: &Path, out: &Path) -> Child {
+    Command::new(env!("CARGO_BIN_EXE_raytrace"))
+        .args([
+            scene.as_os_str(),
+            "-q".as_ref(),
+            "-o".as_ref(),
+            out.as_os_str(),
+        ])
+        .spawn()
+        .expect("start raytrace")
+}
+
+/// Sends `signal` (as `kill` spells it: "-INT") to the process `pid`.
+pub fn send_signal(signal: &str, pid: u32) {
+    let sent = Command::new("kill")
+        .args([signal, &pid.to_string()])
+        .status()
+        .expect("run kill");
+    assert!(sent.success(), "kill {signal} {pid}");
+}
+
+/// The names of the temporary images (`*.tmp`) left in `dir`.
+pub fn temporaries(dir: &Path) -> Vec<String> {
+    std::fs::read_dir(dir)
+        .expect("read dir")
+        .map(|e| {
+            e.expect("dir entry")
+                .file_name()
+                .to_string_lossy()
+                .into_owned()
+        })
+        .filter(|n| n.ends_with(".tmp"))
+        .collect()
+}
+
+/// A run's stderr as text.
+pub fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
 }

@@ -133,6 +133,27 @@ fn a_root_on_a_critical_point_is_reported_once() {
     assert_eq!(f.len(), 2, "{f:?}");
 }
 
+/// A window of zero width ([t, t], allowed by `roots_in`) on a root: the
+/// root is reported once. The cascade's first piece is then [t, t] with
+/// P(t) = 0 at both ends; only `b > a` in `Cascade::next` keeps it from
+/// being reported again after `cascade` has already reported the root at
+/// `lo` (a doubled crossing flips CSG's inside and outside). Elsewhere a
+/// piece has b = a only if a level hands out one critical point twice in
+/// a row; each level's roots come out increasing and above `lo`.
+#[test]
+fn a_root_in_a_window_of_zero_width_is_reported_once() {
+    let _watchdog = crate::watchdog::start();
+    // t(t − 1)(t − 2) and t(t − 1)(t − 2)(t + 3): exact at t = 1.
+    let cubic = from_roots(&[0.0, 1.0, 2.0], 0.0, 0);
+    let quartic = from_roots(&[0.0, 1.0, 2.0, -3.0], 0.0, 0);
+    for c in [&cubic, &quartic] {
+        assert_eq!(horner(c, 1.0), 0.0);
+        assert_eq!(all_roots(c, 1.0, 1.0, 1e-12), vec![1.0], "{c:?}");
+        // And a zero-width window off the roots finds nothing.
+        assert!(all_roots(c, 0.5, 0.5, 1e-12).is_empty(), "{c:?}");
+    }
+}
+
 /// The bracketed solver's bisection start: when the secant guess does not
 /// fall inside the bracket (here a bracket whose ends give no usable
 /// secant), it starts from the midpoint and still converges.

@@ -253,3 +253,90 @@ mod tests {
         assert!((y - (c + DVec3::Z)).length() < 1e-6, "{y}");
     }
 }
+
+/// Where the square samples land (mutation testing: "on the surface" alone
+/// let a sphere's samples crowd into a band, and a disc's turn over).
+#[cfg(test)]
+mod spread {
+    use super::*;
+
+    #[test]
+    fn a_spheres_samples_cover_it_uniformly_with_outward_normals() {
+        let centre = DVec3::new(1.0, 2.0, 3.0);
+        let s = LightSurface::Sphere {
+            centre,
+            radius: 0.5,
+        };
+        let k = 40;
+        let (mut mean, mut z2, mut upper) = (DVec3::ZERO, 0.0, 0);
+        for i in 0..k {
+            for j in 0..k {
+                let u = ((i as f64 + 0.5) / k as f64, (j as f64 + 0.5) / k as f64);
+                let (p, n) = point_on(&s, u);
+                // The normal is the outward one at that very point.
+                assert!((p - (centre + 0.5 * n)).length() < 1e-12, "{u:?}");
+                mean += n;
+                z2 += n.z * n.z;
+                upper += (n.z > 0.0) as usize;
+            }
+        }
+        let m = (k * k) as f64;
+        // Uniform over the area: centred, half above the equator, and
+        // E[z²] = 1/3 (z = cos θ is uniform on [−1, 1], Archimedes).
+        assert!((mean / m).length() < 1e-3, "{}", mean / m);
+        assert_eq!(upper, k * k / 2);
+        assert!((z2 / m - 1.0 / 3.0).abs() < 1e-3, "{}", z2 / m);
+    }
+
+    #[test]
+    fn a_discs_samples_follow_the_concentric_map_onto_its_axes() {
+        let centre = DVec3::new(0.0, 5.0, 0.0);
+        let d = LightSurface::Disc {
+            centre,
+            normal: DVec3::NEG_Y,
+            u: DVec3::X * 2.0,
+            v: DVec3::Z * 2.0,
+            radius: 2.0,
+        };
+        // The square's centre is the disc's; the middles of its right and
+        // top edges land on the ends of the `u` and `v` axes.
+        let at = |u| point_on(&d, u).0;
+        assert!((at((0.5, 0.5)) - centre).length() < 1e-12);
+        assert!((at((1.0, 0.5)) - (centre + DVec3::X * 2.0)).length() < 1e-12);
+        assert!((at((0.5, 1.0)) - (centre + DVec3::Z * 2.0)).length() < 1e-12);
+        assert_eq!(point_on(&d, (0.3, 0.8)).1, DVec3::NEG_Y);
+    }
+}
+
+/// A sphere light's area, and a sample's reach: the shadow ray must stop
+/// short of the point it aims at, which lies on the light's own surface.
+#[cfg(test)]
+mod reach {
+    use super::*;
+    use crate::scene::Colour;
+
+    #[test]
+    fn a_sphere_has_area_four_pi_r_squared() {
+        let s = LightSurface::Sphere {
+            centre: DVec3::ONE,
+            radius: 0.5,
+        };
+        assert!((area(&s) - std::f64::consts::PI).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_sample_stops_short_of_the_light() {
+        let light = AreaLight {
+            surface: LightSurface::Sphere {
+                centre: DVec3::new(0.0, 0.0, 5.0),
+                radius: 1.0,
+            },
+            emit: Colour::ONE,
+            samples: None,
+            two_sided: false,
+        };
+        // u = (1, ·): n = −z, the sphere's point nearest the origin, 4 away.
+        let s = sample(&light, DVec3::ZERO, (1.0, 0.0)).unwrap();
+        assert!(s.dist < 4.0 && s.dist > 4.0 * (1.0 - 1e-6), "{}", s.dist);
+    }
+}

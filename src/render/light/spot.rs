@@ -58,3 +58,47 @@ mod tests {
         assert!(sample(DVec3::Y * 8.0, -DVec3::Y, a, f, Colour::ONE, DVec3::X * 8.0).is_none());
     }
 }
+
+/// The fade between `angle` and `falloff` is the smoothstep 3t² − 2t³ of
+/// t, the cosine's place between the two (mutation testing: "between 0 and
+/// 1" alone let t²/(3 − 2t) through).
+#[cfg(test)]
+mod fade {
+    use super::*;
+
+    #[test]
+    fn the_fade_is_the_smoothstep_of_the_cosine() {
+        let (a, f) = (25f64.to_radians().cos(), 35f64.to_radians().cos());
+        for i in 1..20 {
+            let t = i as f64 / 20.0;
+            let k = cone(f + t * (a - f), a, f);
+            assert!(
+                (k - (3.0 * t * t - 2.0 * t * t * t)).abs() < 1e-12,
+                "t {t}: {k}"
+            );
+            // Symmetric about the middle, where it is one half.
+            let mirror = cone(f + (1.0 - t) * (a - f), a, f);
+            assert!((k + mirror - 1.0).abs() < 1e-12, "t {t}");
+        }
+    }
+}
+
+/// A sample's direction and distance are those from the shading point to
+/// the light, whatever the point (the other tests shade at the origin,
+/// where position − from and position + from agree).
+#[cfg(test)]
+mod towards {
+    use super::*;
+
+    #[test]
+    fn the_sample_points_from_the_shading_point_to_the_light() {
+        let (a, f) = (25f64.to_radians().cos(), 35f64.to_radians().cos());
+        let from = DVec3::new(1.0, 0.5, -2.0);
+        let s = sample(DVec3::Y * 8.0, -DVec3::Y, a, f, Colour::ONE, from).unwrap();
+        let to = DVec3::new(-1.0, 7.5, 2.0);
+        assert!((s.dist - to.length()).abs() < 1e-12);
+        assert!((s.dir - to / to.length()).length() < 1e-12);
+        // Inside the cone (17° off the axis, the cone is 25°): full colour.
+        assert_eq!(s.radiance, Colour::ONE);
+    }
+}

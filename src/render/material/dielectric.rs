@@ -60,7 +60,10 @@ pub struct Split {
 pub fn split(d: DVec3, n: DVec3, eta: f64) -> Split {
     let cos_i = (-d.dot(n)).clamp(0.0, 1.0);
     let cos2_t = 1.0 - (1.0 - cos_i * cos_i) / (eta * eta);
-    if cos2_t < 0.0 {
+    // `<=`: at exactly cos²_t = 0 (the critical angle, or an index-matched
+    // interface met at grazing) all is reflected; the Fresnel terms
+    // below would be 0/0 in the grazing case.
+    if cos2_t <= 0.0 {
         return Split {
             kr: 1.0,
             refracted: None,
@@ -158,5 +161,83 @@ mod tests {
         assert!((i.eta * o.eta - 1.0).abs() < 1e-15);
         assert_eq!(i.filter_there, o.filter_here);
         assert_eq!(i.filter_here, Colour::splat(0.9));
+    }
+}
+
+/// Fresnel against its textbook angle form, independent of `split`'s
+/// cosine form (mutation testing found that normal incidence alone, where
+/// η·cos_i = η/cos_i, cannot tell a wrong r∥ from the right one).
+#[cfg(test)]
+mod fresnel_oracles {
+    use super::*;
+
+    /// The ray at angle `a` from the normal +Y, coming down.
+    fn at(a: f64, eta: f64) -> Split {
+        split(DVec3::new(a.sin(), -a.cos(), 0.0), DVec3::Y, eta)
+    }
+
+    /// R_s = (sin(θi − θt) / sin(θi + θt))², R_p = (tan(θi − θt) / tan(θi + θt))²,
+    /// with sin θi = η sin θt; unpolarised light reflects their mean.
+    fn textbook(a: f64, eta: f64) -> f64 {
+        let t = (a.sin() / eta).asin();
+        let rs = ((a - t).sin() / (a + t).sin()).powi(2);
+        let rp = ((a - t).tan() / (a + t).tan()).powi(2);
+        0.5 * (rs + rp)
+    }
+
+    #[test]
+    fn reflectance_follows_the_angle_form_at_every_angle() {
+        for eta in [1.5, 1.33, 2.4, 1.0 / 1.5] {
+            for i in 1..60 {
+                let a = i as f64 * 0.025;
+                if eta < 1.0 && a.sin() >= eta {
+                    continue; // past the critical angle: tested elsewhere
+                }
+                let (got, want) = (at(a, eta).kr, textbook(a, eta));
+                assert!((got - want).abs() < 1e-12, "η {eta} θ {a}: {got} vs {want}");
+            }
+        }
+        // A value to check by hand: glass at 45°, R_s 0.0920, R_p 0.0085.
+        assert!((at(std::f64::consts::FRAC_PI_4, 1.5).kr - 0.05023).abs() < 1e-4);
+    }
+
+    #[test]
+    fn at_brewsters_angle_only_the_perpendicular_part_reflects() {
+        let eta = 1.5f64;
+        let b = eta.atan();
+        let t = (b.sin() / eta).asin();
+        let rs = ((b - t).sin() / (b + t).sin()).powi(2);
+        assert!((at(b, eta).kr - 0.5 * rs).abs() < 1e-12);
+    }
+
+    #[test]
+    fn reflectance_is_the_same_from_either_side() {
+        // Stokes: entering at θi and leaving at the matching θt reflect alike.
+        for a in [0.1f64, 0.4, 0.7, 1.0, 1.3] {
+            let eta = 1.5f64;
+            let t = (a.sin() / eta).asin();
+            let (into, out) = (at(a, eta).kr, at(t, 1.0 / eta).kr);
+            assert!((into - out).abs() < 1e-12, "θ {a}: {into} vs {out}");
+        }
+    }
+
+    #[test]
+    fn an_index_matched_interface_is_invisible_up_to_grazing() {
+        // η = 1 (glass of ior 1, or two equal media): nothing reflects and
+        // the ray goes straight on, at every angle.
+        for i in 0..63 {
+            let a = i as f64 * 0.025;
+            let s = at(a, 1.0);
+            assert!(s.kr.abs() < 1e-12, "θ {a}: {}", s.kr);
+            let d = DVec3::new(a.sin(), -a.cos(), 0.0);
+            assert!((s.refracted.unwrap() - d).length() < 1e-12);
+        }
+        // Exactly grazing (cos θi = 0, or a shading normal turned a hair
+        // past it and clamped): a number, not 0/0. Only reflection is left
+        // there, and the mirror direction of a grazing ray is the ray.
+        for d in [DVec3::X, DVec3::new(1.0, 1e-9, 0.0).normalize()] {
+            let s = split(d, DVec3::Y, 1.0);
+            assert!(s.kr.is_finite() && (0.0..=1.0).contains(&s.kr), "{s:?}");
+        }
     }
 }

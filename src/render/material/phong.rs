@@ -56,3 +56,22 @@ mod tests {
         assert_eq!(highlight(&phong(20.0), n, v, -l, Colour::ONE), Colour::ZERO);
     }
 }
+
+/// The highlight's colour is the product of the specular colour and the
+/// light's (mutation testing: with white for both, c_s / E equals c_s ⊙ E).
+#[cfg(test)]
+mod coloured {
+    use super::*;
+
+    #[test]
+    fn specular_colour_and_light_colour_multiply_per_channel() {
+        let p = Phong {
+            colour: Colour::new(0.5, 0.25, 1.0),
+            shininess: 10.0,
+        };
+        let e = Colour::new(2.0, 4.0, 0.5);
+        // Light and eye on the normal: r·v = 1 and n·l = 1.
+        let h = highlight(&p, DVec3::Y, DVec3::Y, DVec3::Y, e);
+        assert_eq!(h, Colour::new(1.0, 1.0, 0.5));
+    }
+}

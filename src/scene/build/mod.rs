@@ -37,8 +37,11 @@ use std::collections::HashMap;
 use std::path::PathBuf;
 use std::sync::Arc;
 
-/// Largest image side accepted from a scene file.
-pub const MAX_IMAGE_SIDE: u32 = 16384;
+/// Largest image side accepted from a scene file: the command line's
+/// (`--width`, `--height`), so that one set of limits holds whichever
+/// sets the size; the 100-megapixel guard (`--allow-large`) applies to
+/// both alike, before the first ray.
+pub const MAX_IMAGE_SIDE: u32 = crate::cli::MAX_SIDE;
 /// Largest `max_depth`: deeper reflections than this cannot change a pixel
 /// that is stored in 8 or 16 bits unless every surface is a perfect mirror.
 pub const MAX_DEPTH: u32 = 64;
