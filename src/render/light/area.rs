@@ -326,17 +326,32 @@ mod reach {
 
     #[test]
     fn a_sample_stops_short_of_the_light() {
-        let light = AreaLight {
+        let centre = DVec3::new(0.0, 0.0, 5.0);
+        let light = |clipped| AreaLight {
             surface: LightSurface::Sphere {
-                centre: DVec3::new(0.0, 0.0, 5.0),
+                centre,
                 radius: 1.0,
             },
             emit: Colour::ONE,
             samples: None,
             two_sided: false,
+            clipped,
         };
-        // u = (1, ·): n = −z, the sphere's point nearest the origin, 4 away.
-        let s = sample(&light, DVec3::ZERO, (1.0, 0.0)).unwrap();
+        // Whole-surface route (a light inside CSG): u = (1, ·) gives
+        // n = −z, the sphere's point nearest the origin, 4 away.
+        let s = sample(&light(true), DVec3::ZERO, (1.0, 0.0)).unwrap();
         assert!(s.dist < 4.0 && s.dist > 4.0 * (1.0 - 1e-6), "{}", s.dist);
+        // Visible-cap route: the ray ends just outside the sphere, on the
+        // near side, wherever in the cone it points.
+        for u in [(0.0, 0.0), (0.5, 0.25), (0.999, 0.7), (1.0, 0.5)] {
+            let s = sample(&light(false), DVec3::ZERO, u).unwrap();
+            let r = (s.dir * s.dist - centre).length();
+            assert!(r > 1.0 && r < 1.0 + 1e-6, "{u:?}: {r}");
+            assert!(
+                s.dist <= 4.0 / 0.8 && s.dist >= 4.0 * (1.0 - 1e-6),
+                "{u:?}: {}",
+                s.dist
+            );
+        }
     }
 }
