@@ -31,6 +31,7 @@ use crate::geometry::{Aabb, DVec3};
 use expand::Tree;
 use ray_poly::Compact;
 use std::ops::Range;
+use std::sync::{Arc, OnceLock};
 
 /// A mistake inside an equation string; `span` is in bytes within the
 /// string's text (the builder shifts it into the scene file).
@@ -54,6 +55,10 @@ pub struct Equation {
     branch: Option<Tree>,
     /// The terms for bounds and tests: (exponents of x, y, z, coefficient).
     terms: Vec<([u16; 3], f64)>,
+    /// The automatic box, found on first use (thousands of solves at high
+    /// degree) and shared by every clone: the equation memo hands out
+    /// clones, so twenty objects with one equation search once.
+    auto_box: Arc<OnceLock<Option<Aabb>>>,
 }
 
 impl Equation {
@@ -80,6 +85,7 @@ impl Equation {
                 .iter()
                 .map(|(e, c)| ([e[0], e[1], e[2]], *c))
                 .collect(),
+            auto_box: Arc::default(),
         };
         memo::put(key, &eq);
         Ok(eq)
@@ -129,7 +135,7 @@ impl Equation {
 
     /// A box holding the whole surface, when one can be found.
     pub fn auto_bounds(&self) -> Option<Aabb> {
-        bounds::auto_box(self)
+        *self.auto_box.get_or_init(|| bounds::auto_box(self))
     }
 }
 

@@ -335,3 +335,19 @@ fn long_sums_around_roots_stay_quick() {
         Err(errs) => assert!(!errs.is_empty() && !errs[0].message.is_empty()),
     }
 }
+
+/// Issue 17: twenty objects with one degree-40 equation loaded 20× as slowly
+/// as one, in the automatic box's thousands of solves; the memo's clones
+/// now share the box, found once.
+#[test]
+fn equal_equations_share_their_automatic_box() {
+    let text = "x^40 + y^40 + z^40 - 1.25";
+    let a = Equation::compile(text, &|_| None).unwrap();
+    let b = Equation::compile(text, &|_| None).unwrap();
+    assert!(std::sync::Arc::ptr_eq(&a.auto_box, &b.auto_box));
+    let found = a.auto_bounds().expect("a bounded surface");
+    // The box holds the surface: (1.25)^(1/40) along each axis.
+    let r = 1.25f64.powf(1.0 / 40.0);
+    assert!(found.max.x >= r && found.max.x < r * 1.05, "{found:?}");
+    assert_eq!(b.auto_box.get().copied(), Some(Some(found)));
+}
