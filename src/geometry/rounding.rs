@@ -22,25 +22,6 @@ pub const fn gamma(n: u32) -> f64 {
     nu / (1.0 - nu)
 }
 
-/// The next f64 above `x` (`x` itself for +∞ and NaN).
-#[inline]
-pub fn next_up(x: f64) -> f64 {
-    if x.is_nan() || x == f64::INFINITY {
-        return x;
-    }
-    if x == 0.0 {
-        return f64::from_bits(1);
-    }
-    let b = x.to_bits();
-    f64::from_bits(if x > 0.0 { b + 1 } else { b - 1 })
-}
-
-/// The next f64 below `x`.
-#[inline]
-pub fn next_down(x: f64) -> f64 {
-    -next_up(-x)
-}
-
 /// The start of a secondary ray leaving the hit point `p` along `dir`:
 /// `p` moved along the geometric normal `n_geo` (any length, either
 /// orientation) to the side `dir` goes to, far enough that the box of
@@ -88,9 +69,9 @@ pub fn offset_along_unit(p: DVec3, p_error: DVec3, unit_normal: DVec3, dir: DVec
 #[inline(always)]
 fn ulp_away(x: f64, n: f64) -> f64 {
     let y = if n > 0.0 {
-        next_up(x)
+        x.next_up()
     } else if n < 0.0 {
-        next_down(x)
+        x.next_down()
     } else {
         return x;
     };
@@ -185,11 +166,17 @@ mod tests {
     use super::*;
 
     #[test]
-    fn next_float_steps_one_ulp() {
-        assert!(next_up(1.0) > 1.0 && next_up(1.0) - 1.0 == f64::EPSILON);
-        assert!(next_down(1.0) < 1.0);
-        assert!(next_up(0.0) > 0.0 && next_down(0.0) < 0.0);
-        assert!(next_up(-1.0) > -1.0);
+    fn ulp_away_steps_exactly_one_ulp_between_normal_numbers() {
+        for x in [1.0, -1.0, 3.5e-300, -7.25e300, f64::MIN_POSITIVE * 4.0] {
+            assert_eq!(ulp_away(x, 1.0), x.next_up(), "{x}");
+            assert_eq!(ulp_away(x, -0.5), x.next_down(), "{x}");
+            assert_eq!(ulp_away(x, 0.0), x, "{x}");
+        }
+        // Down onto the smallest normal number is a normal step, kept: not
+        // a jump to 0 (that is only for results below it).
+        let above = f64::MIN_POSITIVE.next_up();
+        assert_eq!(ulp_away(above, -1.0), f64::MIN_POSITIVE);
+        assert_eq!(ulp_away(-above, 1.0), -f64::MIN_POSITIVE);
     }
 
     #[test]
