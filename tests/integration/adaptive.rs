@@ -9,9 +9,7 @@ use raytrace::render::{Film, Region, RenderOptions, RenderStats, render_region};
 /// The film and statistics of `src` over `region` (the whole picture when
 /// `None`), on `threads` threads.
 fn render_stats(src: &str, region: Option<Region>, threads: usize) -> (Film, RenderStats) {
-    let (_d, path) = scene_file(src);
-    let program = raytrace::lang::load(&path).unwrap();
-    let mut scene = raytrace::scene::build(&program).unwrap_or_else(|e| panic!("{e:?}"));
+    let mut scene = build_src(src);
     let world = raytrace::accel::World::build(std::mem::take(&mut scene.objects));
     let all = Region {
         x: 0,
@@ -202,14 +200,7 @@ plane { normal <0, 1, 0>  material { colour rgb(0.9, 0.9, 0.9) } }
 #[test]
 fn adaptive_mistakes_are_diagnosed() {
     let _watchdog = crate::watchdog::start();
-    let err = |src: &str| {
-        let (_d, path) = scene_file(src);
-        let program = raytrace::lang::load(&path).unwrap();
-        format!(
-            "{:?}",
-            raytrace::scene::build(&program).expect_err("an error")
-        )
-    };
+    let err = build_error;
     let e = err("render { adaptive { threshold 0.1 } }");
     assert!(e.contains("samples 2` or more"), "{e}");
     let e = err("render { samples 4  adaptive { max_samples 3 } }");

@@ -3,18 +3,16 @@
 //! tori, cones, nested results), checked against a second way of building
 //! the same solid, on crossing lists and on rendered pictures.
 
-use crate::support::{max_difference, pixels_differing, project_root, render_path, scene_file};
+use crate::support::{
+    build_src, max_difference, pixels_differing, project_root, render_path, scene_file,
+};
 use raytrace::geometry::{DVec3, Ray};
 use raytrace::render::Film;
 use raytrace::shapes::{Hit, Shape};
 
 /// Builds a scene from text and returns its objects.
 fn objects(src: &str) -> Vec<Box<dyn Shape>> {
-    let (_dir, path) = scene_file(src);
-    let program = raytrace::lang::load(&path).unwrap_or_else(|e| panic!("{e:?}"));
-    raytrace::scene::build(&program)
-        .unwrap_or_else(|e| panic!("{e:?}"))
-        .objects
+    build_src(src).objects
 }
 
 fn render(src: &str) -> Film {

@@ -333,14 +333,7 @@ box {{ min <-1, 0, -1>  max <1, 1, 1>  material {{ colour rgb(1, 1, 1) }} }}
 #[test]
 fn mistakes_in_the_new_parameters_are_diagnosed() {
     let _watchdog = crate::watchdog::start();
-    let err = |src: &str| {
-        let (_d, path) = scene_file(src);
-        let program = raytrace::lang::load(&path).unwrap();
-        format!(
-            "{:?}",
-            raytrace::scene::build(&program).expect_err("an error")
-        )
-    };
+    let err = build_error;
     let e = err("sphere { material { refract { ior 1.5  filtre rgb(1, 1, 1) } } }");
     assert!(
         e.contains("filtre") && e.contains("did you mean `filter`"),

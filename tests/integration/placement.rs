@@ -1,17 +1,13 @@
 //! Where the language puts things: the plane's offset, and the space a
 //! texture given to a CSG block is evaluated in.
 
-use crate::support::{pixels_differing, render_src, scene_file};
+use crate::support::{build_src, pixels_differing, render_src};
 use raytrace::geometry::{DVec3, Ray};
 use raytrace::shapes::Shape;
 
 /// Builds a scene from text and returns its objects.
 fn objects(src: &str) -> Vec<Box<dyn Shape>> {
-    let (_dir, path) = scene_file(src);
-    let program = raytrace::lang::load(&path).unwrap_or_else(|e| panic!("{e:?}"));
-    raytrace::scene::build(&program)
-        .unwrap_or_else(|e| panic!("{e:?}"))
-        .objects
+    build_src(src).objects
 }
 
 /// docs/language.md: "`normal <0, 2, 0>  offset 1` is the plane y = 1".

@@ -1,6 +1,7 @@
 //! Helpers shared by the end-to-end tests: scenes from text, rendered films.
 
 use raytrace::render::{Film, RenderOptions};
+use raytrace::scene::Scene;
 use std::ffi::OsStr;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output};
@@ -13,11 +14,33 @@ pub fn scene_file(src: &str) -> (tempfile::TempDir, PathBuf) {
     (dir, path)
 }
 
+/// Parses and builds a scene file that must have no mistakes.
+pub fn build_path(path: &Path) -> Scene {
+    let program = raytrace::lang::load(path).unwrap_or_else(|e| panic!("{e:?}"));
+    raytrace::scene::build(&program).unwrap_or_else(|e| panic!("{e:?}"))
+}
+
+/// [`build_path`] for a scene given as text.
+pub fn build_src(src: &str) -> Scene {
+    let (_dir, path) = scene_file(src);
+    build_path(&path)
+}
+
+/// The diagnostics, as the user sees them, of a scene that parses but
+/// must fail to build.
+pub fn build_error(src: &str) -> String {
+    let (_dir, path) = scene_file(src);
+    let program = raytrace::lang::load(&path).unwrap_or_else(|e| panic!("{e:?}"));
+    format!(
+        "{:?}",
+        raytrace::scene::build(&program).expect_err("an error")
+    )
+}
+
 /// Parses, builds and renders a scene file at its own size (or the given
 /// one) on a pool of `threads` threads.
 pub fn render_path(path: &Path, size: Option<(u32, u32)>, threads: usize) -> Film {
-    let program = raytrace::lang::load(path).unwrap_or_else(|e| panic!("{e:?}"));
-    let mut scene = raytrace::scene::build(&program).unwrap_or_else(|e| panic!("{e:?}"));
+    let mut scene = build_path(path);
     if let Some((w, h)) = size {
         scene.settings.width = w;
         scene.settings.height = h;
