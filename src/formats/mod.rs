@@ -69,6 +69,26 @@ pub fn read_mesh(path: &Path) -> Result<TriangleSoup, MeshFileError> {
     }
 }
 
+/// For the readers' property tests: applies byte edits (0 overwrite,
+/// 1 insert, 2 remove, each at an index into the current bytes), stopping
+/// if the bytes run out.
+#[cfg(test)]
+pub(crate) fn mangle(b: &mut Vec<u8>, edits: Vec<(proptest::sample::Index, u8, u8)>) {
+    for (at, byte, op) in edits {
+        if b.is_empty() {
+            break;
+        }
+        let i = at.index(b.len());
+        match op {
+            0 => b[i] = byte,
+            1 => b.insert(i, byte),
+            _ => {
+                b.remove(i);
+            }
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -526,14 +526,7 @@ f 4 1 5 8
             ),
         ) {
             let mut b = format!("{CUBE}vt 0 0\nvn 0 0 1\nf 1/1/1 2/1/1 -1/-1/-1\n").into_bytes();
-            for (at, byte, op) in edits {
-                let i = at.index(b.len());
-                match op {
-                    0 => b[i] = byte,
-                    1 => b.insert(i, byte),
-                    _ => { b.remove(i); }
-                }
-            }
+            super::super::mangle(&mut b, edits);
             let _ = parse(&b);
         }
     }

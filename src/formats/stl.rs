@@ -483,14 +483,7 @@ mod tests {
             } else {
                 write_binary(&tetra())
             };
-            for (at, byte, op) in edits {
-                let i = at.index(b.len());
-                match op {
-                    0 => b[i] = byte,
-                    1 => b.insert(i, byte),
-                    _ => { b.remove(i); }
-                }
-            }
+            super::super::mangle(&mut b, edits);
             let _ = parse(&b);
         }
     }

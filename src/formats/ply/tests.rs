@@ -260,15 +260,7 @@ proptest! {
             2 => square("binary_big_endian", "uchar int"),
             _ => ascii(TRI, 3, 1),
         };
-        for (at, byte, op) in edits {
-            let i = at.index(b.len());
-            match op {
-                0 => b[i] = byte,
-                1 => b.insert(i, byte),
-                _ => { b.remove(i); }
-            }
-            if b.is_empty() { break; }
-        }
+        crate::formats::mangle(&mut b, edits);
         if !b.is_empty() && cut.index(4) == 0 {
             b.truncate(cut.index(b.len()));
         }
