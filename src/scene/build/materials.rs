@@ -149,17 +149,7 @@ impl Builder<'_> {
     }
 
     pub(super) fn refract_block(&mut self, item: &Item) -> Option<crate::scene::Dielectric> {
-        let Item::Block(block) = item else {
-            self.err(
-                Error::new(
-                    item.span(),
-                    format!("expected a block, found {}", item.describe()),
-                )
-                .label("not a block")
-                .help("e.g. `refract { ior 1.5  filter rgb(0.9, 1, 0.95) }`"),
-            );
-            return None;
-        };
+        let block = self.block_of(item, "refract { ior 1.5  filter rgb(0.9, 1, 0.95) }")?;
         let mut p = self.params("refract", block, &params::REFRACT);
         let mut d = crate::scene::Dielectric::default();
         let mut ok = true;

@@ -461,6 +461,23 @@ impl<'p> Builder<'p> {
         }
     }
 
+    /// The block a parameter such as `refract { … }` must be given;
+    /// reported (with `example` as the help) when it is something else.
+    fn block_of<'i>(&mut self, item: &'i Item, example: &str) -> Option<&'i Block> {
+        if let Item::Block(block) = item {
+            return Some(block);
+        }
+        self.err(
+            Error::new(
+                item.span(),
+                format!("expected a block, found {}", item.describe()),
+            )
+            .label("not a block")
+            .help(format!("e.g. `{example}`")),
+        );
+        None
+    }
+
     /// Reads the optional parameter `name` with `read` and hands the value
     /// to `set`. False when it was given but wrong (`read` has reported
     /// it), so a caller can drop the whole block after reading the rest.

@@ -224,17 +224,7 @@ impl Builder<'_> {
         item: &Item,
         at: Span,
     ) -> Option<crate::scene::Adaptive> {
-        let Item::Block(block) = item else {
-            self.err(
-                Error::new(
-                    item.span(),
-                    format!("expected a block, found {}", item.describe()),
-                )
-                .label("not a block")
-                .help("e.g. `adaptive { threshold 0.1  max_samples 8 }`"),
-            );
-            return None;
-        };
+        let block = self.block_of(item, "adaptive { threshold 0.1  max_samples 8 }")?;
         let mut p = self.params("adaptive", block, &params::ADAPTIVE);
         let n = self.scene.settings.samples;
         let threshold = match p.take("threshold") {
