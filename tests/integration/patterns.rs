@@ -363,26 +363,7 @@ fn a_rotated_pattern_is_the_pattern_along_the_rotated_axis() {
 #[test]
 fn an_image_with_a_map_is_its_luminance() {
     let _watchdog = crate::watchdog::start();
-    let dir = tempfile::tempdir().unwrap();
-    let mut img = image::RgbImage::new(2, 2);
-    img.put_pixel(0, 0, image::Rgb([255, 0, 0]));
-    img.put_pixel(1, 0, image::Rgb([0, 255, 0]));
-    img.put_pixel(0, 1, image::Rgb([0, 0, 255]));
-    img.put_pixel(1, 1, image::Rgb([255, 255, 255]));
-    img.save(dir.path().join("quad.png")).unwrap();
-    let scene = dir.path().join("scene.rt");
-    std::fs::write(
-        &scene,
-        "
-camera { position <0, 0, 1>  look_at <0, 0, 0>  distance 1  width 2  height 2 }
-render { width 40  height 40  gamma linear }
-ambient white intensity 1
-rectangle { bottom_left <-1, -1, 0>  top_left <-1, 1, 0>  bottom_right <1, -1, 0>
-            material { colour image \"quad.png\" { a black  b rgb(1, 0, 1) } } }
-",
-    )
-    .unwrap();
-    let film = render_path(&scene, None, 2);
+    let film = render_quad_image("image \"quad.png\" { a black  b rgb(1, 0, 1) }");
     // Near each quadrant's centre (bilinear blending adds at most a few
     // percent of its neighbours): red, green, blue, white → their luminance
     // as the map's value: rgb(y, 0, y).

@@ -151,3 +151,28 @@ pub fn temporaries(dir: &Path) -> Vec<String> {
 pub fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
 }
+
+/// A 2×2 image (red, green / blue, white, top row first) filling a
+/// 40×40 picture on a rectangle lit by ambient light alone, seen through
+/// `colour TEXTURE` (which names it `quad.png`).
+pub fn render_quad_image(texture: &str) -> Film {
+    let dir = tempfile::tempdir().unwrap();
+    let mut img = image::RgbImage::new(2, 2);
+    img.put_pixel(0, 0, image::Rgb([255, 0, 0]));
+    img.put_pixel(1, 0, image::Rgb([0, 255, 0]));
+    img.put_pixel(0, 1, image::Rgb([0, 0, 255]));
+    img.put_pixel(1, 1, image::Rgb([255, 255, 255]));
+    img.save(dir.path().join("quad.png")).unwrap();
+    let scene = dir.path().join("scene.rt");
+    let src = format!(
+        "
+camera {{ position <0, 0, 1>  look_at <0, 0, 0>  distance 1  width 2  height 2 }}
+render {{ width 40  height 40  gamma linear }}
+ambient white intensity 1
+rectangle {{ bottom_left <-1, -1, 0>  top_left <-1, 1, 0>  bottom_right <1, -1, 0>
+            material {{ colour {texture} }} }}
+"
+    );
+    std::fs::write(&scene, src).unwrap();
+    render_path(&scene, None, 2)
+}

@@ -88,26 +88,7 @@ plane {{ normal <0, 1, 0>  material {{ colour checker {{ a rgb(1, 1, 1)  b rgb(0
 #[test]
 fn image_texture_shows_the_image_on_a_rectangle() {
     let _watchdog = crate::watchdog::start();
-    let dir = tempfile::tempdir().unwrap();
-    let mut img = image::RgbImage::new(2, 2);
-    img.put_pixel(0, 0, image::Rgb([255, 0, 0]));
-    img.put_pixel(1, 0, image::Rgb([0, 255, 0]));
-    img.put_pixel(0, 1, image::Rgb([0, 0, 255]));
-    img.put_pixel(1, 1, image::Rgb([255, 255, 255]));
-    img.save(dir.path().join("quad.png")).unwrap();
-    let scene = dir.path().join("scene.rt");
-    std::fs::write(
-        &scene,
-        "
-camera { position <0, 0, 1>  look_at <0, 0, 0>  distance 1  width 2  height 2 }
-render { width 40  height 40  gamma linear }
-ambient white intensity 1
-rectangle { bottom_left <-1, -1, 0>  top_left <-1, 1, 0>  bottom_right <1, -1, 0>
-            material { colour image \"quad.png\" } }
-",
-    )
-    .unwrap();
-    let film = render_path(&scene, None, 2);
+    let film = render_quad_image("image \"quad.png\"");
     // The rectangle fills the view. Near the centre of each quadrant (where
     // bilinear filtering blends in only 2.5% of a neighbour) the picture
     // shows that quadrant of the image, upright.
