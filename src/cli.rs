@@ -198,11 +198,11 @@ impl RegionArg {
 /// [0, 1] when any of them has a `.`.
 fn parse_region(s: &str) -> Result<RegionArg, String> {
     let parts: Vec<&str> = s.split(',').map(str::trim).collect();
-    let [_, _, _, _] = parts[..] else {
+    if parts.len() != 4 {
         return Err(format!(
             "`{s}`: write four bounds X0,X1,Y0,Y1, e.g. 0,100,0,50 (pixels) or 0,0.5,0,1 (fractions)"
         ));
-    };
+    }
     if parts.iter().any(|t| t.contains('.')) {
         let mut f = [0.0; 4];
         for (slot, t) in f.iter_mut().zip(&parts) {
