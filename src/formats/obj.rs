@@ -29,7 +29,7 @@
 //! them; a file whose faces name only positions keeps its vertices as
 //! they are.
 
-use super::soup::{MeshFileError, TriangleSoup, triangulate};
+use super::soup::{MeshFileError, TriangleSoup, text_or_bad_line, triangulate};
 use crate::geometry::{DVec2, DVec3};
 use std::collections::HashMap;
 
@@ -41,11 +41,7 @@ pub fn parse(bytes: &[u8]) -> Result<TriangleSoup, MeshFileError> {
     if bytes.is_empty() {
         return Err(err("the file is empty, not an OBJ file", None));
     }
-    let text = std::str::from_utf8(bytes).map_err(|e| {
-        let line = 1 + bytes[..e.valid_up_to()]
-            .iter()
-            .filter(|&&b| b == b'\n')
-            .count();
+    let text = text_or_bad_line(bytes).map_err(|line| {
         err(
             "the file is not text (an OBJ file is UTF-8 or ASCII)",
             Some(line),

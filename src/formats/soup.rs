@@ -34,6 +34,17 @@ fn where_(line: &Option<usize>, element: &Option<String>) -> String {
     }
 }
 
+/// A text format's bytes as text, or the 1-based line holding the first
+/// byte that is not UTF-8 (for the reader's "not text" error).
+pub fn text_or_bad_line(bytes: &[u8]) -> Result<&str, usize> {
+    std::str::from_utf8(bytes).map_err(|e| {
+        1 + bytes[..e.valid_up_to()]
+            .iter()
+            .filter(|&&b| b == b'\n')
+            .count()
+    })
+}
+
 /// Polygons up to this many corners are cut into a fan from corner 0.
 pub const FAN_MAX: usize = 16;
 

@@ -24,7 +24,7 @@
 //! normal is read (it must be numbers) and not used: the winding gives the
 //! flat normal, as for every mesh.
 
-use super::soup::{MeshFileError, TriangleSoup};
+use super::soup::{MeshFileError, TriangleSoup, text_or_bad_line};
 use crate::geometry::DVec3;
 use std::collections::HashMap;
 
@@ -253,11 +253,7 @@ fn short(w: &str) -> String {
 }
 
 fn ascii(bytes: &[u8]) -> Result<TriangleSoup, MeshFileError> {
-    let text = std::str::from_utf8(bytes).map_err(|e| {
-        let line = 1 + bytes[..e.valid_up_to()]
-            .iter()
-            .filter(|&&b| b == b'\n')
-            .count();
+    let text = text_or_bad_line(bytes).map_err(|line| {
         err(
             "the file starts with `solid` but is not text, and its length does not \
              match a binary STL's triangle count",
