@@ -107,14 +107,7 @@ impl Builder<'_> {
             return;
         }
         let mut p = self.params("environment", block, &params::ENVIRONMENT);
-        let colour = match p.take("colour") {
-            Some(q) => self.colour(&q.values[0]).map(|c| c.0),
-            None => Some(Colour::ONE),
-        };
-        let intensity = match p.take("intensity") {
-            Some(q) => self.checked(&q.values[0], |x| x >= 0.0, "0 or more"),
-            None => Some(1.0),
-        };
+        let emitted = self.colour_times_intensity(&mut p);
         let samples = match p.take("samples") {
             Some(q) => self.integer(&q.values[0], 1, 1024),
             None => Some(1),
@@ -137,10 +130,9 @@ impl Builder<'_> {
             },
         };
         self.finish("environment", p);
-        if let (Some(c), Some(k), Some(samples), Some(image)) = (colour, intensity, samples, image)
-        {
+        if let (Some(colour), Some(samples), Some(image)) = (emitted, samples, image) {
             self.scene.environment = Some(crate::scene::Environment {
-                colour: c * k,
+                colour,
                 samples,
                 image,
                 visible: true,
@@ -173,6 +165,20 @@ impl Builder<'_> {
         }
     }
 
+    /// `colour` (white) times `intensity` (1, 0 or more), as lights and
+    /// the environment give them; `None` when either is wrong (reported).
+    fn colour_times_intensity(&mut self, p: &mut Params) -> Option<Colour> {
+        let colour = match p.take("colour") {
+            Some(q) => self.colour(&q.values[0]).map(|c| c.0),
+            None => Some(Colour::ONE),
+        };
+        let intensity = match p.take("intensity") {
+            Some(q) => self.checked(&q.values[0], |x| x >= 0.0, "0 or more"),
+            None => Some(1.0),
+        };
+        Some(colour? * intensity?)
+    }
+
     pub(super) fn light(&mut self, kw: &Spanned<String>, block: &Block) {
         let mut p = self.params("light", block, &params::LIGHT);
         let direction = p.take("direction");
@@ -188,19 +194,12 @@ impl Builder<'_> {
                 None
             }
         };
-        let colour = match p.take("colour") {
-            Some(q) => self.colour(&q.values[0]).map(|c| c.0),
-            None => Some(Colour::ONE),
-        };
-        let intensity = match p.take("intensity") {
-            Some(q) => self.checked(&q.values[0], |x| x >= 0.0, "0 or more"),
-            None => Some(1.0),
-        };
+        let emitted = self.colour_times_intensity(&mut p);
         let kind = self.light_kind(kw, &mut p, direction, position);
-        if let (Some(kind), Some(colour), Some(k)) = (kind, colour, intensity) {
+        if let (Some(kind), Some(colour)) = (kind, emitted) {
             self.scene.lights.push(Light {
                 position: position.unwrap_or(DVec3::ZERO),
-                colour: colour * k,
+                colour,
                 kind,
             });
         }
