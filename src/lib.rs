@@ -38,17 +38,80 @@ use std::time::{Duration, Instant};
 /// Runs the command line: parse, build, check the output, accelerate,
 /// render, write. Each failure carries its exit status.
 pub fn run(args: &Args) -> Result<(), Failure> {
+    let clock = Instant::now();
+    check_output_name(args)?;
+    let program = load(args)?;
+    let parsed = clock.elapsed();
+    let frame = FrameTime {
+        clock: args.clock,
+        frame: args.frame as f64,
+    };
+    let scene = build(args, &program, frame)?;
+    let built = clock.elapsed();
+    if args.check {
+        if !args.quiet {
+            println!("{}", check_summary(&program, &scene.scene, scene.warnings));
+        }
+        return Ok(());
+    }
+    let Some(path) = &args.output else {
+        return Ok(());
+    };
+    let timings = Timings {
+        start: clock,
+        parse: parsed,
+        build: built - parsed,
+    };
+    render_to(args, &program, scene.scene, path, timings)
+}
+
+/// Which moment of an animation a scene is built for: the scene's
+/// `clock` and `frame` names.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FrameTime {
+    pub clock: f64,
+    pub frame: f64,
+}
+
+/// A built scene and how many warnings building it printed.
+pub struct Built {
+    pub scene: scene::Scene,
+    pub warnings: usize,
+}
+
+/// When the run started and what parsing and building took, for `--stats`.
+#[derive(Clone, Copy, Debug)]
+pub struct Timings {
+    pub start: Instant,
+    pub parse: Duration,
+    pub build: Duration,
+}
+
+/// An output name whose extension names no format is refused before any
+/// work.
+pub fn check_output_name(args: &Args) -> Result<(), Failure> {
     if let Some(path) = &args.output {
         output::Format::from_path(path).map_err(Failure::output)?;
     }
-    let clock = Instant::now();
+    Ok(())
+}
+
+/// Parse: the scene file and its includes.
+pub fn load(args: &Args) -> Result<lang::Program, Failure> {
     let text = read_scene(&args.scene).map_err(Failure::system)?;
-    let program = lang::load_text(&args.scene, text).map_err(Failure::scene)?;
-    let parsed = clock.elapsed();
-    let options = args
+    lang::load_text(&args.scene, text).map_err(Failure::scene)
+}
+
+/// Evaluate and build the scene for one moment, apply the command line's
+/// overrides, and check the image size; warnings are printed unless
+/// `--quiet`.
+pub fn build(args: &Args, program: &lang::Program, at: FrameTime) -> Result<Built, Failure> {
+    let mut options = args
         .eval_options()
         .map_err(|e| Failure::usage(miette::miette!("{e}")))?;
-    let (mut scene, warnings) = scene::build_with(&program, &options).map_err(Failure::scene)?;
+    options.clock = at.clock;
+    options.frame = at.frame;
+    let (mut scene, warnings) = scene::build_with(program, &options).map_err(Failure::scene)?;
     if !args.quiet {
         for w in &warnings {
             eprintln!("warning: {w}");
@@ -56,18 +119,23 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     }
     apply_overrides(args, &mut scene);
     check_size(args, &scene.settings).map_err(Failure::usage)?;
-    let built = clock.elapsed();
-    if args.check {
-        if !args.quiet {
-            println!("{}", check_summary(&program, &scene, warnings.len()));
-        }
-        return Ok(());
-    }
-    let Some(path) = &args.output else {
-        return Ok(());
-    };
+    Ok(Built {
+        scene,
+        warnings: warnings.len(),
+    })
+}
+
+/// Accelerate, render and write one picture (or `--region` of it) to
+/// `path`; `--stats` prints the timings.
+pub fn render_to(
+    args: &Args,
+    program: &lang::Program,
+    mut scene: scene::Scene,
+    path: &std::path::Path,
+    timings: Timings,
+) -> Result<(), Failure> {
     let region = picture_region(args, &scene.settings).map_err(Failure::usage)?;
-    let target = output::Target::prepare(path, region.width, region.height, &inputs(&program))
+    let target = output::Target::prepare(path, region.width, region.height, &inputs(program))
         .map_err(Failure::output)?;
     let pool = thread_pool(args).map_err(Failure::system)?;
     let transfer = scene.settings.transfer;
@@ -78,12 +146,12 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     if args.stats {
         let pixels = film.width as u64 * film.height as u64;
         print_stats(
-            parsed,
-            built - parsed,
+            timings.parse,
+            timings.build,
             &world,
             &stats,
             pixels,
-            clock.elapsed(),
+            timings.start.elapsed(),
         );
     }
     Ok(())
