@@ -18,7 +18,8 @@
 //! per-vertex u, v interpolated, else the barycentric coordinates.
 //!
 //! A mesh is a solid (usable in CSG) when it is closed: every edge is shared
-//! by exactly two triangles.
+//! by exactly two triangles, corners compared by position (a uv seam
+//! repeats a corner; it is not a hole).
 
 use super::{Hit, Shape, ShearedRay, barycentric_point};
 use crate::accel::{BuildParams, KdTree};
@@ -171,7 +172,9 @@ impl MeshData {
     }
 
     pub fn is_closed(&self) -> bool {
-        *self.closed.get_or_init(|| is_closed(&self.triangles))
+        *self
+            .closed
+            .get_or_init(|| is_closed(&self.positions, &self.triangles))
     }
 
     pub fn tree_stats(&self) -> &crate::accel::TreeStats {
@@ -451,13 +454,18 @@ fn area_weighted_normals(
     n
 }
 
-/// Every undirected edge used by exactly two triangles.
-fn is_closed(triangles: &[[u32; 3]]) -> bool {
+/// Every undirected edge used by exactly two triangles, with vertices
+/// compared by position: files split a vertex where its uv or normal
+/// changes (OBJ's `v/vt` pairs, a PLY with per-face uv), and such a seam
+/// is still a closed surface for CSG.
+fn is_closed(positions: &[DVec3], triangles: &[[u32; 3]]) -> bool {
     if triangles.is_empty() {
         return false;
     }
+    let weld = welded_indices(positions);
     let mut edges: Vec<(u32, u32)> = Vec::with_capacity(triangles.len() * 3);
     for t in triangles {
+        let t = t.map(|k| weld[k as usize]);
         for k in 0..3 {
             let (a, b) = (t[k], t[(k + 1) % 3]);
             if a == b {
@@ -479,6 +487,28 @@ fn is_closed(triangles: &[[u32; 3]]) -> bool {
         i = j;
     }
     true
+}
+
+/// For each vertex, the lowest index of a vertex at exactly the same
+/// position (−0 and +0 are one coordinate). Exact equality, never a
+/// tolerance: two vertices a rounding apart are a crack, and the
+/// watertight triangle test would let a ray through it.
+fn welded_indices(positions: &[DVec3]) -> Vec<u32> {
+    let key = |i: u32| {
+        let p = positions[i as usize] + DVec3::ZERO;
+        [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()]
+    };
+    let mut order: Vec<u32> = (0..positions.len() as u32).collect();
+    order.sort_unstable_by_key(|&i| (key(i), i));
+    let mut weld = vec![0; positions.len()];
+    let mut first = 0;
+    for (k, &i) in order.iter().enumerate() {
+        if k == 0 || key(i) != key(order[k - 1]) {
+            first = i;
+        }
+        weld[i as usize] = first;
+    }
+    weld
 }
 
 /// A closed mesh's crossings for CSG, which must alternate entering and

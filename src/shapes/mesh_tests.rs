@@ -390,6 +390,48 @@ fn box_mesh(min: DVec3, size: DVec3) -> Arc<MeshData> {
     Arc::new(MeshData::from_parts(pos, None, None, tris))
 }
 
+/// The same box with every face's four corners its own vertices, as an
+/// OBJ with a uv per face or a PLY with per-face normals is read.
+fn split_box_mesh(min: DVec3, size: DVec3) -> Arc<MeshData> {
+    let welded = box_mesh(min, size);
+    let mut pos = Vec::new();
+    let mut tris = Vec::new();
+    for t in &welded.triangles {
+        let base = pos.len() as u32;
+        pos.extend(t.iter().map(|&k| welded.positions[k as usize]));
+        tris.push([base, base + 1, base + 2]);
+    }
+    Arc::new(MeshData::from_parts(pos, None, None, tris))
+}
+
+#[test]
+fn a_box_split_at_its_seams_is_still_closed() {
+    let min = DVec3::new(0.0, 1.0, -2.0);
+    let split = split_box_mesh(min, DVec3::new(1.0, 2.0, 0.5));
+    assert_eq!(split.vertex_count(), 36);
+    assert!(split.is_closed(), "a uv seam is not a hole");
+    let mesh = Mesh::new(split.clone(), false, 0);
+    assert!(mesh.is_solid());
+    let rays = testing::rays_towards(min + DVec3::new(0.5, 1.0, 0.25), 1.0, 500, 3);
+    testing::check_alternation(&mesh, &rays);
+    // A seam whose two sides are a rounding apart is a crack, not a seam.
+    let mut pos = split.positions.clone();
+    pos[0].x = pos[0].x.next_up();
+    assert!(!MeshData::from_parts(pos, None, None, split.triangles.clone()).is_closed());
+    // And a face missing is a hole however the rest is welded.
+    let mut tris = split.triangles.clone();
+    tris.pop();
+    assert!(!MeshData::from_parts(split.positions.clone(), None, None, tris).is_closed());
+    // −0 and +0 are one position: the same box placed at x = +0 closes too.
+    let mut pos = split.positions.clone();
+    for (i, p) in pos.iter_mut().enumerate() {
+        if p.x == 0.0 && i % 2 == 0 {
+            p.x = -0.0;
+        }
+    }
+    assert!(MeshData::from_parts(pos, None, None, split.triangles.clone()).is_closed());
+}
+
 /// Squares per side of [`flat_grid`].
 const GRID: u32 = 40;
 

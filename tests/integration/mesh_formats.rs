@@ -107,6 +107,67 @@ fn one_cube_in_four_formats_draws_one_picture() {
     }
 }
 
+/// The unit cube as an OBJ with a `vt` per face corner: the reader
+/// splits each corner into one vertex per (v, vt) pair, as every OBJ with
+/// texture seams is read. The seams are not holes: it is a solid in CSG,
+/// and a difference with it draws exactly what the welded PLY cube's does.
+#[test]
+fn a_cube_split_at_its_uv_seams_cuts_like_the_welded_cube() {
+    let _watchdog = crate::watchdog::start();
+    let dir = tempfile::tempdir().unwrap();
+    let (p, quads) = cube();
+    let mut obj = String::new();
+    for v in &p {
+        obj += &format!("v {} {} {}\n", v.x, v.y, v.z);
+    }
+    obj += "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n";
+    for q in &quads {
+        obj += &format!(
+            "f {}/1 {}/2 {}/3 {}/4\n",
+            q[0] + 1,
+            q[1] + 1,
+            q[2] + 1,
+            q[3] + 1
+        );
+    }
+    std::fs::write(dir.path().join("seams.obj"), obj).unwrap();
+    let files = cube_files();
+    std::fs::write(dir.path().join("cube.ply"), &files[0].1).unwrap();
+    let d = raytrace::shapes::MeshData::load(&dir.path().join("seams.obj")).unwrap();
+    // One vertex per distinct (v, vt) pair: 20 of them, not the 8 corners.
+    assert_eq!(
+        d.vertex_count(),
+        20,
+        "the reader keeps one vertex per (v, vt)"
+    );
+    assert!(d.is_closed());
+    let cut = |file: &str| {
+        render_with(
+            dir.path(),
+            &format!(
+                r#"difference {{ mesh "{file}" {{ flat }} sphere {{ centre <0.5, 0.5, 0.5>  radius 0.62 }}
+                   material {{ colour rgb(0.9, 0.4, 0.1) }} }}"#
+            ),
+        )
+    };
+    let seams = cut("seams.obj");
+    let welded = cut("cube.ply");
+    assert!(seams.pixels == welded.pixels, "the seams change the cut");
+    // And the cut is there: the sphere pokes out of every face, so the
+    // difference differs from the whole cube.
+    let whole = render_with(
+        dir.path(),
+        r#"mesh "cube.ply" { flat  material { colour rgb(0.9, 0.4, 0.1) } }"#,
+    );
+    let changed = whole
+        .pixels
+        .iter()
+        .zip(&welded.pixels)
+        .filter(|(a, b)| a != b)
+        .count();
+    assert!(changed > 100, "only {changed} pixels show the cut");
+}
+
 /// A square facing the camera, as a PLY with `u v` and as an OBJ with
 /// `vt`, textured with a picture whose left half is red and right half
 /// blue: both show it the same, the right way round.
