@@ -101,7 +101,7 @@ impl<'a> Integrator<'a> {
             if n.dot(ng) < 0.0 { -n } else { n }
         };
         if let Some(bumps) = &material.normal {
-            n = bumps.perturb(n, ng, hit.local);
+            n = bumps.perturb_mapped(n, ng, hit.local, |g| object.normal_to_world(&hit, g));
         }
         let (p, p_err) = (hit.point, hit.p_error);
         // What `offset_ray_origin` would make of ng, once for every ray

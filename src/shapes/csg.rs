@@ -714,6 +714,23 @@ impl Shape for Csg {
         };
         self.children[(hit.path % n) as usize].uv(&inner)
     }
+
+    /// As [`Csg::uv`]: down the path to the child that made the hit,
+    /// unless `local` was taken in this block's own space.
+    fn normal_to_world(&self, hit: &Hit, v: DVec3) -> DVec3 {
+        if self.texture_space == Some(hit.material) {
+            return v;
+        }
+        let n = self.children.len() as u64;
+        if hit.path == LOST || n == 0 {
+            return v;
+        }
+        let inner = Hit {
+            path: hit.path / n,
+            ..*hit
+        };
+        self.children[(hit.path % n) as usize].normal_to_world(&inner, v)
+    }
 }
 
 #[cfg(test)]

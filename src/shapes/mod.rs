@@ -210,6 +210,15 @@ pub trait Shape: Send + Sync + std::fmt::Debug {
     fn uv(&self, hit: &Hit) -> DVec2 {
         hit.uv
     }
+
+    /// A normal (or a gradient) `v` given in the space of `hit.local`,
+    /// mapped into the space of the hit as its own normal was: through the
+    /// inverse transpose of every transform on the way out, not normalised.
+    /// Normal patterns find their slope at `hit.local` and need it in the
+    /// world. A shape that moves nothing returns `v` as it is.
+    fn normal_to_world(&self, _hit: &Hit, v: DVec3) -> DVec3 {
+        v
+    }
 }
 
 /// A ray prepared for the watertight ray/triangle test of Woop, Benthin

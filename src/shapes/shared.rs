@@ -46,6 +46,10 @@ impl Shape for Shared {
     fn uv(&self, hit: &Hit) -> DVec2 {
         self.0.uv(hit)
     }
+
+    fn normal_to_world(&self, hit: &Hit, v: DVec3) -> DVec3 {
+        self.0.normal_to_world(hit, v)
+    }
 }
 
 #[cfg(test)]

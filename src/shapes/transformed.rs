@@ -96,6 +96,10 @@ impl Shape for Transformed {
     fn uv(&self, hit: &Hit) -> crate::geometry::DVec2 {
         self.inner.uv(hit)
     }
+
+    fn normal_to_world(&self, hit: &Hit, v: crate::geometry::DVec3) -> crate::geometry::DVec3 {
+        self.transform.normal(self.inner.normal_to_world(hit, v))
+    }
 }
 
 #[cfg(test)]

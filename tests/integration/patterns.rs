@@ -234,6 +234,54 @@ sphere {{ radius 1  material {{ colour white  specular 0.5  {normal} }} }}
     assert!(max_difference(&plain, &rippled) > 0.05, "ripples show");
 }
 
+/// Bumps belong to their object: an object turned with its camera and
+/// light looks exactly as it did unturned, bumps and all (before the slope
+/// was turned with the object, its tilt kept the unturned axes). Through a
+/// `let` placement (a shared shape), a CSG child with its own transform,
+/// and the pattern's own `rotate`.
+#[test]
+fn bumps_turn_with_their_object() {
+    let _watchdog = crate::watchdog::start();
+    let scene = |camera: &str, light: &str, object: &str| {
+        render_src(&format!(
+            "
+camera {{ {camera}  look_at <0, 0, 0>  fov 40 }}
+render {{ width 48  height 48  gamma linear }}
+ambient white intensity 0.1
+light {{ position {light} }}
+material m {{ colour white  specular 0.6  shininess 30
+  normal ripples {{ amount 0.7  scale 3  centre <0.3, 0.4, 1>  rotate z 30 }} }}
+let ball = sphere {{ radius 1  material m }}
+{object}
+"
+        ))
+    };
+    let plain = scene("position <0, 0, 4>", "<2, 3, 4>", "ball {}");
+    let flat = scene(
+        "position <0, 0, 4>",
+        "<2, 3, 4>",
+        "sphere { radius 1  material { colour white  specular 0.6  shininess 30 } }",
+    );
+    assert!(max_difference(&plain, &flat) > 0.1, "the ripples show");
+    // Half a turn about y: the camera and light go to the other side.
+    let half = scene(
+        "position <0, 0, -4>",
+        "<-2, 3, -4>",
+        "ball { rotate y 180 }",
+    );
+    // A quarter turn about x (y -> z, z -> -y), the camera's up turned too,
+    // the ball a CSG child with its own transform.
+    let quarter = scene(
+        "position <0, -4, 0>  up <0, 0, 1>",
+        "<2, -4, 3>",
+        "difference { sphere { radius 1  material m  rotate x 90 }  sphere { radius 0.1  centre <9, 9, 9> } }",
+    );
+    for (name, turned) in [("half", &half), ("quarter", &quarter)] {
+        let d = max_difference(&plain, turned);
+        assert!(d < 2e-4, "{name} turn: differs by {d}");
+    }
+}
+
 #[test]
 fn pattern_mistakes_are_reported_with_help() {
     let _watchdog = crate::watchdog::start();

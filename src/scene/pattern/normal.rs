@@ -15,10 +15,16 @@
 //!
 //! n′ is kept at least [`MIN_COS`] into the geometric normal's hemisphere,
 //! so a strong tilt can never turn a surface's shading normal to face away.
-//! `amount 0` leaves n untouched, bit for bit. The slope is computed in the
-//! object's axes: exact for translated and uniformly scaled objects; on a
-//! rotated object the tilt keeps its unrotated directions (the bumps still
-//! move with the object and keep their statistics).
+//! `amount 0` leaves n untouched, bit for bit.
+//!
+//! g is found in the pattern's own axes and turned into the object's, then
+//! the world's, the way a normal is turned (by the inverse transpose of
+//! each linear map on the way: the pattern's `rotate`, the object's
+//! transforms), keeping its length. A rotated object's bumps tilt with it,
+//! exactly as the same bumps on the unrotated object rotated as a whole;
+//! slopes do not change under uniform scale, since a bump's height scales
+//! with its width. Under non-uniform scale the direction is the gradient's
+//! and the length is kept (a choice: the bump's height has no one scale).
 
 use crate::geometry::{DVec3, Transform};
 use std::f64::consts::TAU;
@@ -45,12 +51,19 @@ pub struct NormalPattern {
 const STEP: f64 = 1e-4;
 
 impl NormalPattern {
-    /// The slope vector g at object-space point `p`.
+    /// The slope vector g at object-space point `p`, in the object's axes.
     pub fn slope(&self, p: DVec3) -> DVec3 {
-        let p = match &self.place {
-            Some(m) => m.inverse_point(p),
-            None => p,
-        };
+        match &self.place {
+            Some(m) => {
+                let g = self.pattern_slope(m.inverse_point(p));
+                turned(g, m.normal(g))
+            }
+            None => self.pattern_slope(p),
+        }
+    }
+
+    /// The slope at point `p` of the pattern's own space.
+    fn pattern_slope(&self, p: DVec3) -> DVec3 {
         let q = p * self.scale;
         match &self.kind {
             NormalKind::Bumps => {
@@ -73,13 +86,28 @@ impl NormalPattern {
         }
     }
 
-    /// The shading normal `n` (unit, facing the ray) tilted at object-space
-    /// point `p`, kept in the hemisphere of the unit geometric normal `ng`.
+    /// The shading normal `n` (unit, facing the ray) tilted at point `p`
+    /// of an object that is not moved, kept in the hemisphere of the unit
+    /// geometric normal `ng`.
     pub fn perturb(&self, n: DVec3, ng: DVec3, p: DVec3) -> DVec3 {
+        self.perturb_mapped(n, ng, p, |g| g)
+    }
+
+    /// [`NormalPattern::perturb`] at object-space point `p` of an object
+    /// whose normals `to_world` maps into the world (the shape's
+    /// [`crate::shapes::Shape::normal_to_world`]).
+    pub fn perturb_mapped(
+        &self,
+        n: DVec3,
+        ng: DVec3,
+        p: DVec3,
+        to_world: impl Fn(DVec3) -> DVec3,
+    ) -> DVec3 {
         if self.amount == 0.0 {
             return n;
         }
-        let g = self.amount * self.slope(p);
+        let g = self.slope(p);
+        let g = self.amount * turned(g, to_world(g));
         let tangent = g - g.dot(n) * n;
         let m = (n - tangent).normalize_or(n);
         let c = m.dot(ng);
@@ -93,6 +121,20 @@ impl NormalPattern {
             return ng;
         }
         MIN_COS * ng + (1.0 - MIN_COS * MIN_COS).sqrt() * w
+    }
+}
+
+/// Slope `g` turned to the direction `mapped` (g mapped as a normal is),
+/// keeping g's length. An identity map returns g bit for bit.
+fn turned(g: DVec3, mapped: DVec3) -> DVec3 {
+    if mapped == g {
+        return g;
+    }
+    let len = mapped.length();
+    if len > 0.0 && len.is_finite() {
+        mapped * (g.length() / len)
+    } else {
+        g
     }
 }
 
@@ -130,6 +172,44 @@ mod tests {
         assert!(min_dot < 0.99, "hardly tilted: {min_dot}");
         let m = mean.normalize();
         assert!(m.dot(up) > 0.999, "mean normal {mean}");
+    }
+
+    /// The pattern's own `rotate` turns its slopes with it: the placed
+    /// pattern's slope at p is the unplaced one's at R⁻¹p, turned by R;
+    /// and a non-uniform `to_world` turns the direction as a normal but
+    /// keeps the length.
+    #[test]
+    fn placed_slopes_turn_with_the_pattern() {
+        let unplaced = NormalPattern {
+            kind: NormalKind::Waves {
+                centre: DVec3::new(0.2, -0.1, 0.4),
+            },
+            amount: 1.0,
+            scale: 2.0,
+            place: None,
+        };
+        let r = Transform::rotate(DVec3::new(1.0, 2.0, -0.5), 70.0).unwrap();
+        let placed = NormalPattern {
+            place: Some(r),
+            ..unplaced.clone()
+        };
+        for i in 0..50 {
+            let p = DVec3::new(0.3 * i as f64, 1.0 - 0.07 * i as f64, (i as f64).sin());
+            let want = r.vector(unplaced.slope(r.inverse_point(p)));
+            let got = placed.slope(p);
+            assert!(
+                (got - want).length() < 1e-12 * (1.0 + want.length()),
+                "{got} vs {want}"
+            );
+        }
+        let stretch = Transform::scale(DVec3::new(4.0, 1.0, 1.0)).unwrap();
+        let n = unplaced.perturb_mapped(DVec3::Y, DVec3::Y, DVec3::new(0.7, 0.0, 0.1), |g| {
+            stretch.normal(g)
+        });
+        let g = unplaced.slope(DVec3::new(0.7, 0.0, 0.1));
+        let mapped = stretch.normal(g).normalize() * g.length();
+        let want = (DVec3::Y - (mapped - mapped.y * DVec3::Y)).normalize();
+        assert!((n - want).length() < 1e-12, "{n} vs {want}");
     }
 
     #[test]
