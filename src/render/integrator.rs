@@ -259,7 +259,9 @@ impl<'a> Integrator<'a> {
     /// An area light's sample seen from `from`. A clipped light (inside
     /// CSG) keeps it only where a ray to the point meets an emitting
     /// surface there from its front: the solid may have cut that part of
-    /// the surface away, or turned it to face inward.
+    /// the surface away, or turned it to face inward. A light whose
+    /// material pattern chooses its emission takes it from the material
+    /// chosen where that ray meets the surface.
     fn area_sample(
         &self,
         l: &AreaLight,
@@ -267,18 +269,24 @@ impl<'a> Integrator<'a> {
         u: (f64, f64),
         counts: &mut RayCounts,
     ) -> Option<LightSample> {
-        let s = area::sample(l, from, u)?;
-        if !l.clipped {
+        let mut s = area::sample(l, from, u)?;
+        if !l.clipped && !l.chosen {
             return Some(s);
         }
         counts.shadow += 1;
         let at = s.dist / (1.0 - 1e-9);
         let ray = Ray::new(from, s.dir);
-        let (hit, _) = self
+        let (mut hit, object) = self
             .world
             .nearest(&ray, at * (1.0 - 1e-6), at * (1.0 + 1e-6))?;
-        let m = &self.scene.materials[hit.material as usize];
-        (m.emits() && hit.geo_normal.dot(s.dir) < 0.0).then_some(s)
+        let m = pattern::resolve(&self.scene.materials, &mut hit, |h| object.uv(h));
+        if !m.emits() || hit.geo_normal.dot(s.dir) >= 0.0 {
+            return None;
+        }
+        if l.chosen {
+            s.radiance *= m.emit;
+        }
+        Some(s)
     }
 
     /// Fresnel reflection plus refraction, with Beer absorption.

@@ -86,6 +86,11 @@ pub struct AreaLight {
     /// to it meets an emitting surface there from its front
     /// (`render/light/area.rs`).
     pub clipped: bool,
+    /// Its material is a pattern choosing among materials, some emitting:
+    /// `emit` is one, and a sample takes the `emit` of the material chosen
+    /// where a ray to it meets the surface (the same ray as a clipped
+    /// light's, `render/light/area.rs`).
+    pub chosen: bool,
 }
 
 /// Light from every direction: colour × intensity, or an image (an HDR or

@@ -196,6 +196,51 @@ plane {{ normal <0, 1, 0>  material {{ colour rgb(1, 1, 1) }} }}
     }
 }
 
+/// A lamp whose material is a pattern of materials lights the scene with
+/// the emission the pattern chooses at each sample point: a checker of one
+/// lamp with itself is that lamp; split into a lit and a dark half it gives
+/// half the light at the point under its centre (the halves are mirror
+/// images from there), and a lamp of 1 beside one of 3 gives twice the
+/// light of the first alone.
+#[test]
+fn a_lamp_chosen_by_a_pattern_lights_with_what_it_chooses() {
+    let _watchdog = crate::watchdog::start();
+    let floor = |material: &str| {
+        let film = render_src(&format!(
+            "
+camera {{ position <0.5, 0.5, 0>  look_at <0, 0, 0>  fov 2 }}
+render {{ width 3  height 3  gamma linear }}
+material one {{ emit white  intensity 10 }}
+material three {{ emit white  intensity 30 }}
+material dark {{ colour black }}
+rectangle {{ bottom_left <-1, 3, -1>  top_left <-1, 3, 1>  bottom_right <1, 3, -1>
+  samples 16  material {material} }}
+plane {{ normal <0, 1, 0>  material {{ colour rgb(1, 1, 1) }} }}
+"
+        ));
+        px(&film, 1, 1)[0] as f64
+    };
+    let uniform = floor("one");
+    assert!(uniform > 0.1, "the plain lamp lights the floor: {uniform}");
+    let same = floor("{ checker { a one  b one  scale <2, 1> } }");
+    assert!(
+        (same - uniform).abs() < 1e-5 * uniform,
+        "{same} vs {uniform}"
+    );
+    let half = floor("{ checker { a one  b dark  scale <2, 1> } }");
+    assert!(
+        (half - uniform / 2.0).abs() < 0.02 * uniform,
+        "{half} vs {}",
+        uniform / 2.0
+    );
+    let mixed = floor("{ checker { a three  b one  scale <2, 1> } }");
+    assert!(
+        (mixed - 2.0 * uniform).abs() < 0.04 * uniform,
+        "{mixed} vs {}",
+        2.0 * uniform
+    );
+}
+
 #[test]
 fn one_and_two_threads_give_identical_pictures_with_every_random_part() {
     let _watchdog = crate::watchdog::start();
@@ -540,4 +585,13 @@ fn an_emissive_shape_that_cannot_light_is_warned_about() {
     assert_eq!(w.len(), 1, "{w:?}");
     assert!(w[0].contains("emissive `torus`"), "{w:?}");
     assert!(warnings("disc { radius 1  material { emit white } }").is_empty());
+    // A pattern choosing an emitting material glows too.
+    let w = warnings(
+        "material lamp { emit white }\nbox { min <0, 0, 0>  max <1, 1, 1>  material { checker { a lamp  b lamp } } }",
+    );
+    assert_eq!(w.len(), 1, "{w:?}");
+    assert!(
+        warnings("material lamp { emit white }\ndisc { radius 1  material { checker { a lamp  b lamp } } }")
+            .is_empty()
+    );
 }

@@ -182,6 +182,7 @@ mod tests {
             samples: None,
             two_sided: false,
             clipped: false,
+            chosen: false,
         };
         let s = sample(&light, DVec3::ZERO, (0.5, 0.5)).unwrap();
         assert!(
@@ -211,6 +212,7 @@ mod tests {
                 samples: None,
                 two_sided: false,
                 clipped: false,
+                chosen: false,
             };
             let n = 200;
             let mut e = 0.0;
@@ -245,6 +247,7 @@ mod tests {
             samples: None,
             two_sided: true,
             clipped: true,
+            chosen: false,
         };
         // u.0 near 0 is the sphere's far pole (+z), which a cone sample
         // from the origin could never reach.
@@ -336,6 +339,7 @@ mod reach {
             samples: None,
             two_sided: false,
             clipped,
+            chosen: false,
         };
         // Whole-surface route (a light inside CSG): u = (1, ·) gives
         // n = −z, the sphere's point nearest the origin, 4 away.

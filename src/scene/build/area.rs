@@ -4,6 +4,8 @@
 //! its shape) and its `samples` read. An emissive sphere inside CSG lights
 //! the scene too, as a *clipped* light: built in the operation's space and
 //! placed with it, its samples count only where the solid kept its surface.
+//! A lamp whose material is a pattern of materials, some emitting, lights
+//! with what the pattern chooses at each sample point.
 //!
 //! ```text
 //! rectangle { bottom_left <-1, 6, 0>  top_left <-1, 6, 2>  bottom_right <1, 6, 0>  material lamp  samples 8 }
@@ -14,11 +16,25 @@ use super::params::Params;
 use crate::geometry::{DVec3, Transform};
 use crate::lang::ast::{Span, Spanned};
 use crate::lang::diagnostics::Error;
-use crate::scene::{AreaLight, LightSurface, MaterialId};
+use crate::scene::{AreaLight, Colour, LightSurface, Material, MaterialId};
 
 /// Most grid points per side of an area light (`samples 32` is 1024 shadow
 /// rays per shading point).
 pub const MAX_LIGHT_SAMPLES: u32 = 32;
+
+/// Whether material `id`, a pattern of materials, may choose one that
+/// emits (at any depth of nesting; a pattern only chooses materials made
+/// before it, so the walk ends).
+fn pick_emits(materials: &[Material], id: MaterialId) -> bool {
+    let m = &materials[id as usize];
+    match &m.pick {
+        None => m.emits(),
+        Some(pick) => pick
+            .bands
+            .iter()
+            .any(|&(_, b)| b < id && pick_emits(materials, b)),
+    }
+}
 
 /// `surface` moved by `xf`, or `None` when it cannot stay that shape.
 fn moved(surface: &LightSurface, xf: &Transform) -> Option<LightSurface> {
@@ -98,7 +114,9 @@ impl Builder<'_> {
     ) {
         let samples = p.take("samples");
         let m = &self.scene.materials[material as usize];
-        let emit = m.emit;
+        // A pattern of materials emits where it chooses an emitting one.
+        let chosen = m.pick.is_some() && pick_emits(&self.scene.materials, material);
+        let emit = if chosen { Colour::ONE } else { m.emit };
         let n = match &samples {
             Some(q) => match self.integer(&q.values[0], 1, MAX_LIGHT_SAMPLES) {
                 Some(n) => Some((n, q.name.span)),
@@ -106,7 +124,7 @@ impl Builder<'_> {
             },
             None => None,
         };
-        let glows = emit != crate::scene::Colour::ZERO;
+        let glows = emit != Colour::ZERO;
         let Some(local) = local.filter(|_| glows) else {
             if let Some((_, at)) = n {
                 self.samples_unused(at);
@@ -142,6 +160,7 @@ impl Builder<'_> {
             // left to the visibility test of a clipped light.
             two_sided: in_csg,
             clipped: in_csg,
+            chosen,
         });
     }
 
