@@ -1,0 +1,1 @@
+//! `raytrace merge TILES... -o full.png`: placeholder.
