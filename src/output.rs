@@ -419,7 +419,6 @@ fn encode(
     format: Format,
     out: &mut (impl std::io::Write + std::io::Seek),
 ) -> Result<(), EncodeError> {
-    let stamp = stamp.filter(|s| !s.is_full());
     match (pixels, format) {
         (Pixels::Float(img), Format::Exr) => crate::farm::image_io::write_exr(img, stamp, out),
         (Pixels::Float(img), _) => Ok(img.write_to(out, format.image_format())?),

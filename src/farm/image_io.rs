@@ -30,10 +30,18 @@ pub fn write_exr(
         Some(s) => (s.region.x, s.region.y, s.full_width, s.full_height),
         None => (0, 0, w, h),
     };
-    let attributes = LayerAttributes {
+    let mut attributes = LayerAttributes {
         layer_position: Vec2(x as i32, y as i32),
         ..LayerAttributes::default()
     };
+    // A layer's attribute: the `exr` crate reads unknown attributes back
+    // into the layer.
+    if let Some(s) = stamp {
+        attributes.other.insert(
+            Text::from(KEY),
+            AttributeValue::Text(Text::from(s.to_text().as_str())),
+        );
+    }
     let encoding = Encoding {
         compression: Compression::RLE,
         blocks: Blocks::ScanLines,
@@ -47,12 +55,6 @@ pub fn write_exr(
     let mut image = Image::from_layer(layer);
     image.attributes.display_window =
         IntegerBounds::new(Vec2(0, 0), Vec2(full_w as usize, full_h as usize));
-    if let Some(s) = stamp {
-        image.attributes.other.insert(
-            Text::from(KEY),
-            AttributeValue::Text(Text::from(s.to_text().as_str())),
-        );
-    }
     image.write().to_buffered(out)?;
     Ok(())
 }
@@ -139,7 +141,7 @@ fn read_exr(path: &Path) -> Result<Tile, String> {
         .all_attributes()
         .from_file(path)
         .map_err(|e| e.to_string())?;
-    let stamp = match image.attributes.other.get(&Text::from(KEY)) {
+    let stamp = match image.layer_data.attributes.other.get(&Text::from(KEY)) {
         Some(AttributeValue::Text(t)) => Some(Stamp::parse(&t.to_string())?),
         _ => None,
     };

@@ -22,6 +22,8 @@ pub mod motion;
 pub mod stamp;
 pub mod tiles;
 
+pub use merge::merge_main;
+
 use crate::cli::{Args, Failure, RegionArg};
 use crate::{FrameTime, Timings};
 use frames::{FrameList, OutputPattern};
