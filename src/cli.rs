@@ -23,7 +23,12 @@ Exit status:
   3    the system refused (the scene cannot be read, the image cannot be
        written, threads cannot be started)
   128+N  stopped by signal N (130 for Ctrl-C, 143 for SIGTERM); nothing
-       is left half-written";
+       is left half-written
+A scheduler may retry 3 and 128+N; 1 and 2 fail the same way again.
+
+Subcommands:
+  raytrace merge TILES... -o FULL [--average]
+       put tiles from --tile or --region back together (see docs/farm.md)";
 
 /// Render a .rt scene to an image.
 #[derive(Parser, Debug, Clone)]
