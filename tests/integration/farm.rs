@@ -311,14 +311,21 @@ fn a_rerun_skips_what_exists_and_logs_json_lines() {
 
 /// The words of a report, whatever miette's line wrapping did to them.
 fn words(s: &str) -> String {
-    s.replace('│', " ").split_whitespace().collect::<Vec<_>>().join(" ")
+    s.replace('│', " ")
+        .split_whitespace()
+        .collect::<Vec<_>>()
+        .join(" ")
 }
 
 /// Exit 2 and a message that says what is wrong.
 fn refused(args: &[&str], dir: &Path, wanted: &str) {
     let o = run(args, dir);
     assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
-    assert!(words(&stderr(&o)).contains(wanted), "{args:?}: {}", stderr(&o));
+    assert!(
+        words(&stderr(&o)).contains(wanted),
+        "{args:?}: {}",
+        stderr(&o)
+    );
     assert!(!stderr(&o).contains("panicked"));
 }
 
