@@ -27,7 +27,7 @@ impl Grid {
         }
         let mut best: Option<(f64, Grid)> = None;
         for columns in 1..=n {
-            if n % columns != 0 {
+            if !n.is_multiple_of(columns) {
                 continue;
             }
             let rows = n / columns;
