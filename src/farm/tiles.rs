@@ -26,7 +26,9 @@ impl Grid {
             return Err("a picture cannot be cut into 0 tiles".into());
         }
         let mut best: Option<(f64, Grid)> = None;
-        for columns in 1..=n {
+        // At most one column a pixel: the loop is bounded by the width,
+        // not by N (`--tile 0/4000000000` answers at once).
+        for columns in 1..=n.min(width) {
             if !n.is_multiple_of(columns) {
                 continue;
             }
@@ -117,6 +119,8 @@ mod tests {
         let g = Grid::new(3, 100, 7).unwrap();
         assert_eq!((g.columns, g.rows), (1, 7));
         assert!(Grid::new(2, 2, 5).is_err());
+        assert!(Grid::new(48, 32, u32::MAX).is_err());
+        assert!(Grid::new(0, 32, 4).is_err());
         assert!(Grid::new(2, 2, 0).is_err());
     }
 

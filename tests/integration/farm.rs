@@ -379,6 +379,11 @@ fn bad_frames_regions_and_tiles_are_usage_errors() {
         "cannot be cut into 2000",
     );
     refused(
+        &["scene.rt", "--tile", "0/4000000000", "-o", "x.png"],
+        d,
+        "cannot be cut into 4000000000",
+    );
+    refused(
         &["scene.rt", "--frames", "0-4000000000", "-o", "x#.png"],
         d,
         "more than",
@@ -629,4 +634,50 @@ fn one_sub_frame_is_no_blur_byte_for_byte() {
         d,
     );
     assert!(bytes(d.join("mb.png")) == bytes(d.join("blur.png")));
+}
+
+#[test]
+fn averaged_sub_frames_equal_the_built_in_motion_blur() {
+    // Two routes to one picture: four sharp renders at clocks 0, 1/4, 2/4,
+    // 3/4 averaged by `merge --average`, and `motion_blur 4  shutter 1`.
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let sharp = moving_ball(d, "");
+    let s = sharp.to_str().unwrap();
+    let mut merge = vec!["merge".to_string(), "--average".into()];
+    for k in 0..4 {
+        let out = format!("c{k}.exr");
+        ok(
+            &[
+                s,
+                "--clock",
+                &format!("{}", k as f64 / 4.0),
+                "-o",
+                &out,
+                "-q",
+            ],
+            d,
+        );
+        merge.push(out);
+    }
+    merge.extend(["-o".into(), "mean.exr".into(), "-q".into()]);
+    ok(&merge.iter().map(String::as_str).collect::<Vec<_>>(), d);
+    let blurred = moving_ball(d, "motion_blur 4  shutter 1");
+    ok(&[blurred.to_str().unwrap(), "-o", "blur.exr", "-q"], d);
+    assert!(bytes(d.join("mean.exr")) == bytes(d.join("blur.exr")));
+    // Whole pictures carry no transfer curve for an 8-bit average...
+    let mut png = merge.clone();
+    png.splice(png.len() - 2..png.len() - 1, ["mean.png".to_string()]);
+    refused(
+        &png.iter().map(String::as_str).collect::<Vec<_>>(),
+        d,
+        "transfer curve",
+    );
+    // ...and pictures of another size are refused.
+    ok(&[s, "--width", "48", "-o", "small.exr", "-q"], d);
+    refused(
+        &["merge", "--average", "c0.exr", "small.exr", "-o", "m.exr"],
+        d,
+        "is 48x48 but",
+    );
 }
