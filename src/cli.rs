@@ -24,6 +24,7 @@ Exit status:
        written, threads cannot be started)
   128+N  stopped by signal N (130 for Ctrl-C, 143 for SIGTERM); nothing
        is left half-written
+
 A scheduler may retry 3 and 128+N; 1 and 2 fail the same way again.
 
 Subcommands:

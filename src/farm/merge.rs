@@ -34,7 +34,7 @@ Exit status:
 /// Assemble tiles (from --tile or --region) into the full picture, or
 /// average sub-frame EXRs.
 #[derive(Parser, Debug, Clone)]
-#[command(name = "raytrace merge", after_help = AFTER_HELP)]
+#[command(name = "raytrace merge", bin_name = "raytrace merge", after_help = AFTER_HELP)]
 pub struct MergeArgs {
     /// The tiles: PNG or EXR images written with --tile or --region.
     #[arg(required = true)]
@@ -133,13 +133,19 @@ pub fn merge(args: &MergeArgs) -> Result<(), Failure> {
         .write_pixels(&pixels, stamp.as_ref())
         .map_err(Failure::output)?;
     if !args.quiet {
+        let (w, h) = match &pixels {
+            Pixels::Rgb8(i) => i.dimensions(),
+            Pixels::Float(i) => i.dimensions(),
+        };
+        let of = match &stamp {
+            Some(_) => format!(" (a tile of the {}x{} picture)", full.0, full.1),
+            None => String::new(),
+        };
         eprintln!(
-            "{}: {} {} into {}x{}",
+            "{}: {} {} into {w}x{h}{of}",
             args.output.display(),
             if args.average { "averaged" } else { "merged" },
             tiles.len(),
-            full.0,
-            full.1
         );
     }
     Ok(())
