@@ -125,6 +125,22 @@ fn read_png(path: &Path) -> Result<Tile, String> {
 
 fn read_exr(path: &Path) -> Result<Tile, String> {
     use exr::prelude::*;
+    // The header first: a file that claims a huge picture is refused
+    // before its pixels are given memory.
+    let meta = exr::meta::MetaData::read_from_file(path, false).map_err(|e| e.to_string())?;
+    for h in &meta.headers {
+        let (w, ht) = (h.layer_size.width() as u64, h.layer_size.height() as u64);
+        if w > crate::cli::MAX_SIDE as u64
+            || ht > crate::cli::MAX_SIDE as u64
+            || w * ht > crate::MAX_PIXELS
+        {
+            return Err(format!(
+                "its {w}x{ht} pixels are more than a render can have (at most {} on a side, {} in all)",
+                crate::cli::MAX_SIDE,
+                crate::MAX_PIXELS
+            ));
+        }
+    }
     let image = read()
         .no_deep_data()
         .largest_resolution_level()
@@ -170,4 +186,85 @@ fn read_exr(path: &Path) -> Result<Tile, String> {
         pixels: Pixels::Float(img),
         stamp,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::render::Region;
+
+    fn stamp(x: u32, y: u32, w: u32, h: u32) -> Stamp {
+        Stamp {
+            full_width: 40,
+            full_height: 30,
+            region: Region {
+                x,
+                y,
+                width: w,
+                height: h,
+            },
+            scene: 1,
+            frame: 2,
+            clock: 0.5,
+            transfer: crate::scene::Transfer::Srgb,
+        }
+    }
+
+    #[test]
+    fn an_exr_tile_reads_back_with_its_place_and_record() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("t.exr");
+        let img = image::Rgb32FImage::from_fn(7, 5, |x, y| image::Rgb([x as f32, y as f32, 0.25]));
+        let s = stamp(30, 20, 7, 5);
+        write_exr(&img, Some(&s), std::fs::File::create(&p).unwrap()).unwrap();
+        let t = read_tile(&p).unwrap();
+        assert_eq!(t.stamp, Some(s));
+        let Pixels::Float(back) = t.pixels else {
+            panic!("an EXR reads as float")
+        };
+        assert_eq!(back, img);
+        // The same pixels make the same bytes, every time.
+        let q = dir.path().join("u.exr");
+        write_exr(
+            &img,
+            Some(&stamp(30, 20, 7, 5)),
+            std::fs::File::create(&q).unwrap(),
+        )
+        .unwrap();
+        assert_eq!(std::fs::read(&p).unwrap(), std::fs::read(&q).unwrap());
+    }
+
+    #[test]
+    fn a_png_tile_reads_back_with_its_record() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("t.png");
+        let img = image::RgbImage::from_fn(4, 3, |x, y| image::Rgb([x as u8, y as u8, 9]));
+        let s = stamp(1, 2, 4, 3);
+        write_png(&img, &s, std::fs::File::create(&p).unwrap()).unwrap();
+        let t = read_tile(&p).unwrap();
+        assert_eq!(t.stamp, Some(s));
+        let Pixels::Rgb8(back) = t.pixels else {
+            panic!("a PNG reads as 8-bit")
+        };
+        assert_eq!(back, img);
+        assert!(read_tile(&dir.path().join("t.jpg")).is_err());
+    }
+
+    #[test]
+    fn an_exr_claiming_a_huge_picture_is_refused_before_reading_it() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("t.exr");
+        let img = image::Rgb32FImage::new(2, 2);
+        write_exr(&img, None, std::fs::File::create(&p).unwrap()).unwrap();
+        // Patch the data window's max corner (two i32 after the min) to
+        // claim 70000 x 70000 pixels.
+        let mut bytes = std::fs::read(&p).unwrap();
+        let at = bytes.windows(10).position(|w| w == b"dataWindow").unwrap();
+        let values = at + b"dataWindow\0box2i\0".len() + 4;
+        bytes[values + 8..values + 12].copy_from_slice(&69_999i32.to_le_bytes());
+        bytes[values + 12..values + 16].copy_from_slice(&69_999i32.to_le_bytes());
+        std::fs::write(&p, bytes).unwrap();
+        let e = read_tile(&p).err().unwrap();
+        assert!(e.contains("more than a render can have"), "{e}");
+    }
 }
