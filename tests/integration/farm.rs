@@ -681,3 +681,60 @@ fn averaged_sub_frames_equal_the_built_in_motion_blur() {
         "is 48x48 but",
     );
 }
+
+#[test]
+fn one_task_per_tile_of_every_frame_merges_frame_by_frame() {
+    // `--frames 0-1 --tiles 4`: tasks 1-8 (1-based, as GNU parallel's {#})
+    // are the four tiles of frame 0, then those of frame 1.
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    scene(d, "samples 2  sampler multijittered");
+    let cmds: Vec<Vec<String>> = (1..=8)
+        .map(|i| {
+            strings(&[
+                "scene.rt",
+                "--frames",
+                "0-1",
+                "--tiles",
+                "4",
+                "--index-base",
+                "1",
+                "-o",
+                "f#_t@.exr",
+                "-q",
+                "--threads",
+                "1",
+                "--task-index",
+            ])
+            .into_iter()
+            .chain([i.to_string()])
+            .collect()
+        })
+        .collect();
+    parallel(&cmds, d);
+    ok(
+        &["scene.rt", "--frames", "0-1", "-o", "full_#.png", "-q"],
+        d,
+    );
+    for f in 0..2 {
+        let mut m = vec!["merge".to_string()];
+        m.extend((1..=4).map(|t| format!("f{f}_t{t}.exr")));
+        m.extend(["-o".into(), format!("m{f}.png"), "-q".into()]);
+        ok(&m.iter().map(String::as_str).collect::<Vec<_>>(), d);
+        assert!(bytes(d.join(format!("m{f}.png"))) == bytes(d.join(format!("full_{f}.png"))));
+    }
+    // Tiles of two frames are not one picture.
+    refused(
+        &[
+            "merge",
+            "f0_t1.exr",
+            "f1_t2.exr",
+            "f0_t3.exr",
+            "f0_t4.exr",
+            "-o",
+            "x.png",
+        ],
+        d,
+        "different pictures: frames 0",
+    );
+}
