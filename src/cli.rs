@@ -23,7 +23,13 @@ Exit status:
   3    the system refused (the scene cannot be read, the image cannot be
        written, threads cannot be started)
   128+N  stopped by signal N (130 for Ctrl-C, 143 for SIGTERM); nothing
-       is left half-written";
+       is left half-written
+
+A scheduler may retry 3 and 128+N; 1 and 2 fail the same way again.
+
+Subcommands:
+  raytrace merge TILES... -o FULL [--average]
+       put tiles from --tile or --region back together (see docs/farm.md)";
 
 /// Render a .rt scene to an image.
 #[derive(Parser, Debug, Clone)]
@@ -88,12 +94,68 @@ pub struct Args {
     pub defines: Vec<String>,
 
     /// The scene's `clock` (0 to 1 over an animation; 0 for a still).
-    #[arg(long, default_value_t = 0.0)]
+    /// With --frames the clock comes from the range instead.
+    #[arg(long, default_value_t = 0.0, conflicts_with = "frames")]
     pub clock: f64,
 
-    /// The scene's `frame` number (0 for a still).
-    #[arg(long, default_value_t = 0)]
-    pub frame: u32,
+    /// The scene's `frame` number (0 for a still); with --frames, the one
+    /// frame of the range to render (its clock still from the whole range).
+    #[arg(long, value_name = "N")]
+    pub frame: Option<u32>,
+
+    /// Render an animation: `1-240`, `3,5,9-20:2` (a step of 2), `7`. The
+    /// clock is 0 at the lowest frame and 1 at the highest; the output
+    /// name has `####` where the frame number goes (`-o out_####.png`).
+    #[arg(long, value_name = "LIST", value_parser = crate::farm::frames::FrameList::parse)]
+    pub frames: Option<crate::farm::frames::FrameList>,
+
+    /// This task's number in a job array ($SLURM_ARRAY_TASK_ID,
+    /// $JOB_COMPLETION_INDEX), counted from --index-base: with --tasks N
+    /// or --frames-per-task K it picks a contiguous chunk of the frames,
+    /// with --tiles N a tile (and, with --frames, the frame).
+    #[arg(long, value_name = "I")]
+    pub task_index: Option<u64>,
+
+    /// How many tasks share the frames (each gets a contiguous chunk,
+    /// the sizes differing by at most one).
+    #[arg(long, value_name = "N", requires = "task_index", conflicts_with = "frames_per_task",
+          value_parser = clap::value_parser!(u64).range(1..))]
+    pub tasks: Option<u64>,
+
+    /// Frames each task renders: task I renders frames I·K to I·K+K−1 of
+    /// the list (counted from 0).
+    #[arg(long, value_name = "K", requires = "task_index",
+          value_parser = clap::value_parser!(u64).range(1..))]
+    pub frames_per_task: Option<u64>,
+
+    /// Render tile I of N of the picture (I from --index-base), on the
+    /// most square grid of N tiles; the image holds just that tile.
+    #[arg(long, value_name = "I/N", value_parser = crate::farm::tiles::parse_tile,
+          conflicts_with_all = ["region", "tiles"])]
+    pub tile: Option<crate::farm::tiles::TileArg>,
+
+    /// Cut the picture into N tiles and render the one --task-index picks
+    /// (task I: frame I / N of the list, tile I mod N).
+    #[arg(long, value_name = "N", requires = "task_index", conflicts_with_all = ["region", "tasks", "frames_per_task"],
+          value_parser = clap::value_parser!(u32).range(1..))]
+    pub tiles: Option<u32>,
+
+    /// What --task-index and --tile count from: 0 (Kubernetes, GNU
+    /// parallel's {%}-1, `--array=0-…`) or 1 (SGE, `--array=1-…`).
+    #[arg(long, value_name = "0|1", default_value_t = 0,
+          value_parser = clap::value_parser!(u8).range(0..=1))]
+    pub index_base: u8,
+
+    /// Skip a frame or tile whose output file already exists (outputs are
+    /// written under a temporary name and renamed, so one that exists is
+    /// complete): a rerun of a failed job redoes only what is missing.
+    #[arg(long)]
+    pub skip_existing: bool,
+
+    /// Write one JSON line to stderr per finished (or skipped) frame or
+    /// tile: output, frame, region, seconds, rays, peak memory.
+    #[arg(long, value_name = "FORMAT")]
+    pub log: Option<LogFormat>,
 
     /// Most iterations of one `for` loop.
     #[arg(long, value_name = "N", default_value_t = crate::eval::Limits::default().iterations)]
@@ -131,7 +193,7 @@ impl Args {
         Ok(crate::eval::Options {
             defines,
             clock: self.clock,
-            frame: self.frame as f64,
+            frame: self.frame.unwrap_or(0) as f64,
             limits: crate::eval::Limits {
                 iterations: self.max_iterations,
                 objects: self.max_objects,
@@ -140,6 +202,13 @@ impl Args {
             },
         })
     }
+}
+
+/// `--log`'s formats.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum LogFormat {
+    /// One JSON object a line.
+    Json,
 }
 
 /// `--region` as written: the picture's size is known only once the scene

@@ -13,6 +13,7 @@
 pub mod accel;
 pub mod cli;
 pub mod eval;
+pub mod farm;
 pub mod formats;
 pub mod geometry;
 pub mod guard;
@@ -38,13 +39,16 @@ use std::time::{Duration, Instant};
 /// Runs the command line: parse, build, check the output, accelerate,
 /// render, write. Each failure carries its exit status.
 pub fn run(args: &Args) -> Result<(), Failure> {
+    if farm::wanted(args) {
+        return farm::run(args);
+    }
     let clock = Instant::now();
     check_output_name(args)?;
     let program = load(args)?;
     let parsed = clock.elapsed();
     let frame = FrameTime {
         clock: args.clock,
-        frame: args.frame as f64,
+        frame: args.frame.unwrap_or(0) as f64,
     };
     let scene = build(args, &program, frame)?;
     let built = clock.elapsed();
@@ -140,9 +144,20 @@ pub fn render_to(
     let pool = thread_pool(args).map_err(Failure::system)?;
     let transfer = scene.settings.transfer;
     let world = accel::World::build(std::mem::take(&mut scene.objects));
-    let (film, stats) =
+    let first =
         render_with_progress(args, &pool, &scene, &world, region).map_err(Failure::scene)?;
-    target.write(&film, transfer).map_err(Failure::output)?;
+    let (film, stats) = farm::motion::blur(args, program, &scene, first, |mut sub| {
+        let world = accel::World::build(std::mem::take(&mut sub.objects));
+        render_with_progress(args, &pool, &sub, &world, region).map_err(Failure::scene)
+    })?;
+    // A region's image records where it lies; a whole picture stays plain.
+    let stamp = farm::stamp::Stamp::of(args, program, &scene.settings, region);
+    target
+        .write_stamped(&film, transfer, args.region.is_some().then_some(&stamp))
+        .map_err(Failure::output)?;
+    let picture = (scene.settings.width, scene.settings.height);
+    let seconds = timings.start.elapsed().as_secs_f64();
+    farm::log::finished(args, path, region, picture, &stats, seconds);
     if args.stats {
         let pixels = film.width as u64 * film.height as u64;
         print_stats(

@@ -10,6 +10,7 @@
 //! and, by creating the temporary file there, that the folder exists and
 //! is writable. A render is never thrown away for want of a place to put it.
 
+use crate::farm::stamp::Stamp;
 use crate::render::Film;
 use crate::scene::Transfer;
 use miette::Diagnostic;
@@ -226,16 +227,55 @@ impl Target {
     /// Encodes the film into the temporary file and renames it over the
     /// target.
     pub fn write(self, film: &Film, transfer: Transfer) -> Result<(), OutputError> {
-        self.write_with(film, transfer, |t| std::fs::File::create(t))
+        self.write_stamped(film, transfer, None)
+    }
+
+    /// As [`Target::write`], for a region of a picture: a PNG records the
+    /// stamp and offset, an EXR its data window in the full picture (see
+    /// `farm::image_io`). Other formats hold just the region's pixels.
+    pub fn write_stamped(
+        self,
+        film: &Film,
+        transfer: Transfer,
+        stamp: Option<&Stamp>,
+    ) -> Result<(), OutputError> {
+        let pixels = Pixels::of_film(film, self.format, transfer);
+        self.write_pixels(&pixels, stamp)
+    }
+
+    /// Writes pixels already encoded for this target's format (those of
+    /// [`Pixels::of_film`], or merged tiles).
+    pub fn write_pixels(self, pixels: &Pixels, stamp: Option<&Stamp>) -> Result<(), OutputError> {
+        self.write_with(pixels, stamp, |t| std::fs::File::create(t))
+    }
+
+    pub fn format(&self) -> Format {
+        self.format
     }
 
     fn write_with<S: Sink>(
         self,
-        film: &Film,
-        transfer: Transfer,
+        pixels: &Pixels,
+        stamp: Option<&Stamp>,
         create: impl FnOnce(&Path) -> std::io::Result<S>,
     ) -> Result<(), OutputError> {
-        write_through(film, &self.path, &self.tmp, self.format, transfer, create)
+        write_through(pixels, stamp, &self.path, &self.tmp, self.format, create)
+    }
+}
+
+/// An image ready for its encoder: 8-bit colour after the transfer curve
+/// (PNG, JPEG, PPM) or linear float (EXR, HDR).
+pub enum Pixels {
+    Rgb8(image::RgbImage),
+    Float(image::Rgb32FImage),
+}
+
+impl Pixels {
+    pub fn of_film(film: &Film, format: Format, transfer: Transfer) -> Pixels {
+        match format {
+            Format::Exr | Format::Hdr => Pixels::Float(to_rgb32f(film)),
+            _ => Pixels::Rgb8(to_rgb8(film, transfer)),
+        }
     }
 }
 
@@ -341,11 +381,11 @@ impl Sink for std::fs::File {
 }
 
 fn write_through<S: Sink>(
-    film: &Film,
+    pixels: &Pixels,
+    stamp: Option<&Stamp>,
     path: &Path,
     tmp: &Path,
     format: Format,
-    transfer: Transfer,
     create: impl FnOnce(&Path) -> std::io::Result<S>,
 ) -> Result<(), OutputError> {
     let err = |reason: String| OutputError::Write {
@@ -356,12 +396,7 @@ fn write_through<S: Sink>(
     let result = (|| {
         let file = create(tmp).map_err(|e| err(reason(&e)))?;
         let mut out = std::io::BufWriter::new(file);
-        let encoded = match format {
-            Format::Exr | Format::Hdr => to_rgb32f(film).write_to(&mut out, format.image_format()),
-            Format::Ppm => write_ppm(&to_rgb8(film, transfer), &mut out),
-            _ => to_rgb8(film, transfer).write_to(&mut out, format.image_format()),
-        };
-        encoded.map_err(|e| err(reason(&e)))?;
+        encode(pixels, stamp, format, &mut out).map_err(|e| err(reason(&*e)))?;
         let file = out.into_inner().map_err(|e| err(reason(e.error())))?;
         file.sync().map_err(|e| err(reason(&e)))?;
         drop(file);
@@ -372,6 +407,30 @@ fn write_through<S: Sink>(
     }
     set_pending(None);
     result
+}
+
+type EncodeError = Box<dyn std::error::Error + Send + Sync>;
+
+/// Encodes the pixels as `format`; a stamp adds a region's record where
+/// the format can hold it.
+fn encode(
+    pixels: &Pixels,
+    stamp: Option<&Stamp>,
+    format: Format,
+    out: &mut (impl std::io::Write + std::io::Seek),
+) -> Result<(), EncodeError> {
+    match (pixels, format) {
+        (Pixels::Float(img), Format::Exr) => crate::farm::image_io::write_exr(img, stamp, out),
+        (Pixels::Float(img), _) => Ok(img.write_to(out, format.image_format())?),
+        (Pixels::Rgb8(img), Format::Png) if let Some(s) = stamp => {
+            crate::farm::image_io::write_png(img, s, out)
+        }
+        (Pixels::Rgb8(img), Format::Ppm) => Ok(write_ppm(img, out)?),
+        (Pixels::Rgb8(_), Format::Exr | Format::Hdr) => {
+            Err("8-bit colour cannot be written as linear float".into())
+        }
+        (Pixels::Rgb8(img), _) => Ok(img.write_to(out, format.image_format())?),
+    }
 }
 
 /// Binary PPM (`P6`), which every viewer reads; the `image` crate's PNM
@@ -471,7 +530,8 @@ mod tests {
             let p = dir.path().join(format!("out.{ext}"));
             std::fs::write(&p, b"the old picture").unwrap();
             let target = Target::claim(&p, Format::from_path(&p).unwrap()).unwrap();
-            let r = target.write_with(&film, Transfer::Srgb, |t| {
+            let pixels = Pixels::of_film(&film, target.format(), Transfer::Srgb);
+            let r = target.write_with(&pixels, None, |t| {
                 Ok(NearlyFull {
                     file: std::fs::File::create(t)?,
                     room: 100,

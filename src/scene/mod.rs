@@ -37,7 +37,25 @@ pub struct RenderSettings {
     pub seed: u64,
     /// More samples only where a pixel's first ones disagree.
     pub adaptive: Option<Adaptive>,
+    /// Sub-frames averaged over an open shutter (`farm::motion`).
+    pub motion_blur: Option<MotionBlur>,
 }
+
+/// `render { motion_blur N  shutter S }`: the picture is the mean of N
+/// sub-frames, the k-th (k = 0 … N−1) built at `frame + S·k/N` (and the
+/// clock that frame number has), so the shutter opens at the frame's own
+/// moment and stays open for S of a frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MotionBlur {
+    /// Sub-frames, 1 to [`MAX_MOTION_SAMPLES`] (1 = no blur).
+    pub samples: u32,
+    /// How long the shutter is open, in frames: 0 (exclusive) to 1.
+    pub shutter: f64,
+}
+
+/// Most sub-frames of `motion_blur` (each one is a whole scene build and
+/// render).
+pub const MAX_MOTION_SAMPLES: u32 = 64;
 
 /// `render { samples N  adaptive { threshold T  max_samples M } }`: a pixel
 /// whose N × N samples differ by more than T in some channel (each clamped
@@ -80,6 +98,7 @@ impl Default for RenderSettings {
             sampler: SamplerKind::Regular,
             seed: 0,
             adaptive: None,
+            motion_blur: None,
         }
     }
 }

@@ -6,6 +6,7 @@ mod csg;
 mod diagnostics;
 mod eval;
 mod examples;
+mod farm;
 mod geometry;
 mod golden;
 mod hostile;

@@ -145,6 +145,12 @@ pub const RENDER: Schema = Schema {
         ),
         spec("seed", 1, "a whole number"),
         spec("adaptive", 1, "a block `{ threshold …  max_samples … }`"),
+        spec("motion_blur", 1, "a whole number of sub-frames, 1 to 64"),
+        spec(
+            "shutter",
+            1,
+            "the time the shutter is open, in frames (0 to 1)",
+        ),
     ],
     object: false,
     children: false,

@@ -212,7 +212,40 @@ impl Builder<'_> {
         if let Some(q) = p.take("adaptive") {
             self.scene.settings.adaptive = self.adaptive_block(&q.values[0], q.name.span);
         }
+        self.motion_blur(&mut p);
         self.finish("render", p);
+    }
+
+    /// `motion_blur N` (1 to 64 sub-frames) and `shutter S` (0 < S ≤ 1
+    /// frames, default 0.5: a film camera's 180° shutter). A shutter
+    /// without sub-frames blurs nothing, which is said.
+    fn motion_blur(&mut self, p: &mut Params) {
+        let samples = p.take("motion_blur");
+        let shutter = p.take("shutter");
+        let n = samples
+            .as_ref()
+            .and_then(|q| self.integer(&q.values[0], 1, crate::scene::MAX_MOTION_SAMPLES));
+        let s = match &shutter {
+            Some(q) => self.checked(
+                &q.values[0],
+                |s| s > 0.0 && s <= 1.0,
+                "a time in frames, greater than 0 and at most 1",
+            ),
+            None => Some(0.5),
+        };
+        match (&samples, &shutter) {
+            (None, Some(q)) => self.warn(
+                q.name.span,
+                "`shutter` does nothing without `motion_blur N` (the number of sub-frames)",
+            ),
+            (Some(_), _) => {
+                if let (Some(samples), Some(shutter)) = (n, s) {
+                    self.scene.settings.motion_blur =
+                        Some(crate::scene::MotionBlur { samples, shutter });
+                }
+            }
+            (None, None) => {}
+        }
     }
 
     /// `adaptive { threshold T  max_samples M }` inside `render` (whose
