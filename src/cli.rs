@@ -69,6 +69,12 @@ pub struct Args {
     #[arg(long)]
     pub check: bool,
 
+    /// Render, then render again whenever the scene or a file it reads
+    /// changes (a quick coarse pass first, then the full picture), until
+    /// Ctrl-C; a scene with mistakes keeps the last good picture.
+    #[arg(long, conflicts_with = "check")]
+    pub watch: bool,
+
     /// Print timings and ray counts to stderr.
     #[arg(long)]
     pub stats: bool,

@@ -23,5 +23,6 @@ mod shared_data;
 mod stdlib;
 mod support;
 mod textures;
+mod watch;
 #[path = "../../src/watchdog.rs"]
 mod watchdog;

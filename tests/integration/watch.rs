@@ -1,0 +1,240 @@
+//! `--watch`, as a user runs it: the program started as a child process,
+//! the scene edited on disk, the picture on disk looked at.
+
+use crate::support;
+use clap::Parser;
+use std::io::Read;
+use std::path::Path;
+use std::process::{Child, Command, Stdio};
+use std::sync::atomic::AtomicBool;
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+
+/// How long a change may take to show: generous, as the machine running
+/// the tests is often busy compiling.
+const BOUND: Duration = Duration::from_secs(20);
+
+/// A 64×48 picture filled by a rectangle lit by ambient light alone, in
+/// linear gamma: every pixel is the colour named by `colour` (a name the
+/// scene or its includes define, or an expression).
+fn flat(colour: &str) -> String {
+    format!(
+        "
+camera {{ position <0, 0, 1>  look_at <0, 0, 0>  distance 1  width 2  height 2 }}
+render {{ width 64  height 48  gamma linear  samples 2 }}
+ambient white intensity 1
+rectangle {{ bottom_left <-2, -2, 0>  top_left <-2, 2, 0>  bottom_right <2, -2, 0>
+            material {{ colour {colour} }} }}
+"
+    )
+}
+
+/// The running `raytrace --watch`, killed if the test fails; its stderr
+/// collected as it comes.
+struct Watching {
+    child: Child,
+    stderr: Arc<Mutex<String>>,
+}
+
+impl Watching {
+    fn start(scene: &Path, out: &Path) -> Watching {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_raytrace"))
+            .args([
+                scene.as_os_str(),
+                "-o".as_ref(),
+                out.as_os_str(),
+                "--watch".as_ref(),
+                "--threads".as_ref(),
+                "2".as_ref(),
+            ])
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("start raytrace --watch");
+        let stderr = Arc::new(Mutex::new(String::new()));
+        let mut pipe = child.stderr.take().expect("stderr is piped");
+        let sink = stderr.clone();
+        std::thread::spawn(move || {
+            let mut buf = [0u8; 4096];
+            while let Ok(n) = pipe.read(&mut buf) {
+                if n == 0 {
+                    break;
+                }
+                sink.lock()
+                    .unwrap()
+                    .push_str(&String::from_utf8_lossy(&buf[..n]));
+            }
+        });
+        Watching { child, stderr }
+    }
+
+    fn stderr(&self) -> String {
+        self.stderr.lock().unwrap().clone()
+    }
+
+    /// Waits until `ok` holds of the stderr so far, or fails the test.
+    fn wait_for_stderr(&self, what: &str, ok: impl Fn(&str) -> bool) {
+        let start = Instant::now();
+        while !ok(&self.stderr()) {
+            assert!(
+                start.elapsed() < BOUND,
+                "no {what} on stderr within {BOUND:?}; stderr:\n{}",
+                self.stderr()
+            );
+            std::thread::sleep(Duration::from_millis(50));
+        }
+    }
+}
+
+impl Drop for Watching {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+/// The centre pixel of the image at `out`, if there is one to read.
+fn centre(out: &Path) -> Option<[u8; 3]> {
+    let img = image::open(out).ok()?.to_rgb8();
+    Some(img.get_pixel(img.width() / 2, img.height() / 2).0)
+}
+
+/// Waits until the image at `out` is the full 64×48 picture with centre
+/// pixel `want`, or fails the test.
+fn wait_for_picture(w: &Watching, out: &Path, want: [u8; 3]) {
+    let start = Instant::now();
+    loop {
+        let full = image::image_dimensions(out).is_ok_and(|d| d == (64, 48));
+        if full && centre(out) == Some(want) {
+            return;
+        }
+        assert!(
+            start.elapsed() < BOUND,
+            "{} did not show {want:?} within {BOUND:?} (centre {:?}); stderr:\n{}",
+            out.display(),
+            centre(out),
+            w.stderr()
+        );
+        std::thread::sleep(Duration::from_millis(50));
+    }
+}
+
+const RED: [u8; 3] = [255, 0, 0];
+const BLUE: [u8; 3] = [0, 0, 255];
+const GREEN: [u8; 3] = [0, 255, 0];
+
+#[test]
+fn watch_re_renders_on_save_keeps_the_last_picture_through_mistakes_and_stops_on_ctrl_c() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("scene.rt");
+    let out = dir.path().join("out.png");
+    std::fs::write(&scene, flat("rgb(1, 0, 0)")).unwrap();
+    let w = Watching::start(&scene, &out);
+
+    // The first picture, coarse pass first.
+    wait_for_picture(&w, &out, RED);
+    w.wait_for_stderr("line for the full pass", |e| {
+        e.contains("rendered") && e.contains("out.png in ")
+    });
+    let err = w.stderr();
+    let coarse = err
+        .find("out.png (coarse) in ")
+        .expect("a coarse pass line");
+    assert!(coarse < err.find("out.png in ").unwrap(), "{err}");
+
+    // An edit: the picture is replaced.
+    std::fs::write(&scene, flat("rgb(0, 0, 1)")).unwrap();
+    wait_for_picture(&w, &out, BLUE);
+    let blue = std::fs::read(&out).unwrap();
+
+    // Two mistakes: both reported, the picture kept.
+    let bad = flat("rgb(0, 1, 0)")
+        .replace("ambient white", "ambient whiet")
+        .replace("bottom_right", "bottom_rihgt");
+    std::fs::write(&scene, bad).unwrap();
+    w.wait_for_stderr("diagnostics", |e| {
+        e.contains("bottom_rihgt") && e.contains("whiet")
+    });
+    w.wait_for_stderr("note that the picture is kept", |e| {
+        e.contains("out.png is unchanged")
+    });
+    assert_eq!(
+        std::fs::read(&out).unwrap(),
+        blue,
+        "the last good picture stays"
+    );
+
+    // An include that does not exist yet: an error, then creating the
+    // file is a change like any other.
+    std::fs::write(&scene, format!("include \"colour.rt\"\n{}", flat("C"))).unwrap();
+    w.wait_for_stderr("missing include", |e| {
+        e.contains("cannot find the included file `colour.rt`")
+    });
+    assert_eq!(std::fs::read(&out).unwrap(), blue);
+    std::fs::write(dir.path().join("colour.rt"), "let C = rgb(0, 1, 0)\n").unwrap();
+    wait_for_picture(&w, &out, GREEN);
+
+    // The included file is watched too.
+    std::fs::write(dir.path().join("colour.rt"), "let C = rgb(1, 0, 0)\n").unwrap();
+    wait_for_picture(&w, &out, RED);
+
+    // Ctrl-C: the shell's status for it, and no temporary left.
+    let mut w = w;
+    support::send_signal("-INT", w.child.id());
+    let start = Instant::now();
+    let status = loop {
+        if let Some(s) = w.child.try_wait().unwrap() {
+            break s;
+        }
+        assert!(start.elapsed() < BOUND, "--watch did not stop on Ctrl-C");
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    assert_eq!(status.code(), Some(130));
+    assert!(support::temporaries(dir.path()).is_empty());
+    assert_eq!(centre(&out), Some(RED));
+}
+
+#[test]
+fn a_cancelled_round_writes_nothing_and_a_whole_one_writes_the_picture() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("scene.rt");
+    let out = dir.path().join("out.png");
+    std::fs::write(&scene, flat("rgb(0, 1, 0)")).unwrap();
+    let args = raytrace::cli::Args::parse_from([
+        "raytrace".as_ref(),
+        scene.as_os_str(),
+        "-q".as_ref(),
+        "-o".as_ref(),
+        out.as_os_str(),
+    ]);
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .build()
+        .unwrap();
+    let round = |cancel: bool| {
+        raytrace::watch::render_once(&args, &pool, &out, &AtomicBool::new(cancel))
+            .unwrap_or_else(|f| panic!("{f:?}"))
+    };
+    assert_eq!(round(true), raytrace::watch::Outcome::Cancelled);
+    assert!(!out.exists(), "a cancelled round writes no picture");
+    assert!(support::temporaries(dir.path()).is_empty());
+    assert_eq!(round(false), raytrace::watch::Outcome::Done);
+    assert_eq!(centre(&out), Some(GREEN));
+}
+
+#[test]
+fn a_set_cancel_flag_stops_a_render_and_a_clear_one_does_not() {
+    let (_dir, path) = support::scene_file(&flat("rgb(1, 1, 1)"));
+    let mut scene = support::build_path(&path);
+    let world = raytrace::accel::World::build(std::mem::take(&mut scene.objects));
+    let render = |flag: bool| {
+        let cancel = AtomicBool::new(flag);
+        let opts = raytrace::render::RenderOptions {
+            progress: None,
+            cancel: Some(&cancel),
+        };
+        raytrace::render::render(&scene, &world, &opts)
+    };
+    assert!(render(true).is_none());
+    let (film, _) = render(false).expect("a picture");
+    assert_eq!((film.width, film.height), (64, 48));
+}
