@@ -23,7 +23,11 @@ Exit status:
   3    the system refused (the scene cannot be read, the image cannot be
        written, threads cannot be started)
   128+N  stopped by signal N (130 for Ctrl-C, 143 for SIGTERM); nothing
-       is left half-written";
+       is left half-written
+
+Other commands:
+  raytrace fmt [--check] FILE...   lay out .rt files canonically, in place
+                                   (`-` for stdin to stdout); fmt --help";
 
 /// Render a .rt scene to an image.
 #[derive(Parser, Debug, Clone)]

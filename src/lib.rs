@@ -13,6 +13,7 @@
 pub mod accel;
 pub mod cli;
 pub mod eval;
+pub mod fmt;
 pub mod formats;
 pub mod geometry;
 pub mod guard;

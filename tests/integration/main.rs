@@ -6,6 +6,7 @@ mod csg;
 mod diagnostics;
 mod eval;
 mod examples;
+mod fmt;
 mod geometry;
 mod golden;
 mod hostile;
