@@ -238,3 +238,38 @@ fn a_set_cancel_flag_stops_a_render_and_a_clear_one_does_not() {
     let (film, _) = render(false).expect("a picture");
     assert_eq!((film.width, film.height), (64, 48));
 }
+
+/// The README's first scene: each step's lines, added in order, give a
+/// scene that builds, and together they are examples/first_scene.rt.
+#[test]
+fn the_readme_first_scene_builds_at_every_step_and_is_the_example() {
+    let readme = std::fs::read_to_string(support::project_root().join("README.md")).unwrap();
+    let start = readme.find("## Your first scene").expect("the section");
+    let section = &readme[start..];
+    let section = &section[..section[3..].find("\n## ").map_or(section.len(), |k| k + 3)];
+    let blocks: Vec<&str> = section
+        .split("```rt\n")
+        .skip(1)
+        .map(|b| &b[..b.find("```").expect("a closed block")])
+        .collect();
+    assert!(blocks.len() >= 4, "{blocks:?}");
+    let mut scene = String::new();
+    for (k, block) in blocks.iter().enumerate() {
+        scene.push_str(block);
+        let (_dir, path) = support::scene_file(&scene);
+        let program = raytrace::lang::load(&path).unwrap_or_else(|e| panic!("step {k}: {e:?}"));
+        raytrace::scene::build(&program).unwrap_or_else(|e| panic!("step {k}: {e:?}"));
+    }
+    // The example has every line of the steps, in order (its render block
+    // with the last step's `samples 3` added).
+    let example =
+        std::fs::read_to_string(support::project_root().join("examples/first_scene.rt")).unwrap();
+    let mut lines = example.lines();
+    for want in scene.lines() {
+        let want = want.replace("rgb(0.5, 0.7, 0.9) }", "rgb(0.5, 0.7, 0.9)  samples 3 }");
+        assert!(
+            lines.any(|l| l == want),
+            "examples/first_scene.rt lacks, or has out of order: {want}"
+        );
+    }
+}
