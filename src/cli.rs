@@ -79,6 +79,11 @@ pub struct Args {
     #[arg(long, conflicts_with = "check")]
     pub watch: bool,
 
+    /// As --watch, and show each pass in a window (closing it stops);
+    /// needs a raytrace built with `--features preview`.
+    #[arg(long, conflicts_with = "check")]
+    pub preview: bool,
+
     /// Print timings and ray counts to stderr.
     #[arg(long)]
     pub stats: bool,

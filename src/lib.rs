@@ -20,6 +20,8 @@ pub mod guard;
 pub mod implicit;
 pub mod lang;
 pub mod output;
+#[cfg(feature = "preview")]
+pub mod preview;
 pub mod render;
 pub mod scene;
 pub mod shapes;
@@ -40,7 +42,7 @@ use std::time::{Duration, Instant};
 /// Runs the command line: parse, build, check the output, accelerate,
 /// render, write. Each failure carries its exit status.
 pub fn run(args: &Args) -> Result<(), Failure> {
-    if args.watch {
+    if args.watch || args.preview {
         return watch::watch(args);
     }
     let clock = Instant::now();

@@ -33,6 +33,22 @@ use std::sync::mpsc::{Receiver, RecvTimeoutError, channel};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
+#[cfg(feature = "preview")]
+use crate::preview::Preview as Window;
+
+/// Without the `preview` feature there is no window (and `--preview` is
+/// refused before anything is rendered).
+#[cfg(not(feature = "preview"))]
+#[derive(Default)]
+struct Window {}
+
+#[cfg(not(feature = "preview"))]
+impl Window {
+    fn show(&mut self, _: &render::Film, _: scene::Transfer, _: &str) -> Result<(), String> {
+        Ok(())
+    }
+}
+
 /// How long the files must be quiet after a change before rendering: long
 /// enough to cover an editor's burst of writes, short enough not to be
 /// felt.
@@ -51,8 +67,15 @@ pub fn watch(args: &Args) -> Result<(), Failure> {
             "--watch needs an output image: -o OUT.png"
         )));
     };
+    if args.preview && !cfg!(feature = "preview") {
+        return Err(Failure::usage(miette::miette!(
+            help = "build it with the window: cargo install --path . --features preview",
+            "this raytrace was built without the --preview window"
+        )));
+    }
     let pool = crate::thread_pool(args).map_err(Failure::system)?;
     let cancel = Arc::new(AtomicBool::new(false));
+    let mut window = Window::default();
     let mut files = Files::new(cancel.clone()).map_err(Failure::system)?;
     let show = |line: String| {
         if !args.quiet {
@@ -75,12 +98,24 @@ pub fn watch(args: &Args) -> Result<(), Failure> {
             });
             watched = named;
         }
-        match render_once(args, &pool, &path, &cancel) {
+        let title = format!("raytrace: {}", args.scene.display());
+        let mut shown = |film: &render::Film, transfer: scene::Transfer| {
+            if !args.preview {
+                return Ok(());
+            }
+            window.show(film, transfer, &title).map_err(|e| {
+                Failure::system(miette::miette!(
+                    help = "--preview needs a display (is DISPLAY set?); --watch alone needs none",
+                    "cannot open the preview window: {e}"
+                ))
+            })
+        };
+        match render_once(args, &pool, &path, &cancel, &mut shown) {
             Ok(Outcome::Done) => {}
             Ok(Outcome::Cancelled) => show("changed while rendering; starting again".to_string()),
-            Err(failure) if failure.exit == crate::cli::Exit::System && is_output(&failure) => {
-                return Err(failure);
-            }
+            // The system refused to write the image or open the window:
+            // editing the scene cannot mend that.
+            Err(failure) if failure.exit == crate::cli::Exit::System => return Err(failure),
             Err(failure) => {
                 // Every diagnostic, as a plain run prints them; the last
                 // good picture is left where it is.
@@ -96,15 +131,6 @@ pub fn watch(args: &Args) -> Result<(), Failure> {
     }
 }
 
-/// Whether a failure is about writing the output (which editing the scene
-/// cannot mend), rather than about the scene.
-fn is_output(failure: &Failure) -> bool {
-    failure
-        .report
-        .downcast_ref::<output::OutputError>()
-        .is_some()
-}
-
 /// How a round of rendering ended, when it did not fail.
 #[derive(Debug, PartialEq, Eq)]
 pub enum Outcome {
@@ -115,14 +141,18 @@ pub enum Outcome {
 }
 
 /// One round: parse, build, then the coarse and the full pass, each
-/// written when done; a set `cancel` stops it between rows.
+/// written when done and then handed to `shown`; a set `cancel` stops it
+/// between rows.
 pub fn render_once(
     args: &Args,
     pool: &rayon::ThreadPool,
     path: &Path,
     cancel: &AtomicBool,
+    shown: &mut dyn FnMut(&render::Film, scene::Transfer) -> Result<(), Failure>,
 ) -> Result<Outcome, Failure> {
-    let program = crate::load(args)?;
+    // A scene that cannot be read (an editor deleting it to save it anew)
+    // is waited out like a mistake in it.
+    let program = crate::load(args).map_err(|f| Failure::scene(f.report))?;
     let frame = FrameTime {
         clock: args.clock,
         frame: args.frame as f64,
@@ -158,6 +188,7 @@ pub fn render_once(
         output::Target::prepare(path, region.width, region.height, &inputs)
             .and_then(|t| t.write(&film, full.transfer))
             .map_err(Failure::output)?;
+        shown(&film, full.transfer)?;
         if !args.quiet {
             eprintln!(
                 "rendered {}{} in {:.2} s",

@@ -211,8 +211,10 @@ fn a_cancelled_round_writes_nothing_and_a_whole_one_writes_the_picture() {
         .build()
         .unwrap();
     let round = |cancel: bool| {
-        raytrace::watch::render_once(&args, &pool, &out, &AtomicBool::new(cancel))
-            .unwrap_or_else(|f| panic!("{f:?}"))
+        raytrace::watch::render_once(&args, &pool, &out, &AtomicBool::new(cancel), &mut |_, _| {
+            Ok(())
+        })
+        .unwrap_or_else(|f| panic!("{f:?}"))
     };
     assert_eq!(round(true), raytrace::watch::Outcome::Cancelled);
     assert!(!out.exists(), "a cancelled round writes no picture");
@@ -272,4 +274,121 @@ fn the_readme_first_scene_builds_at_every_step_and_is_the_example() {
             "examples/first_scene.rt lacks, or has out of order: {want}"
         );
     }
+}
+
+#[cfg(not(feature = "preview"))]
+#[test]
+fn preview_without_the_feature_is_refused_before_any_work() {
+    let (dir, scene) = support::scene_file(&flat("rgb(1, 0, 0)"));
+    let out = dir.path().join("out.png");
+    let o = support::render_to(&scene, &out, &["--preview"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(support::stderr(&o).contains("--features preview"));
+    assert!(!out.exists());
+}
+
+/// The preview window, tried as a user would see it: under a virtual X
+/// server (Xvfb), screenshots taken with `xwd` show the picture, then the
+/// edited one. Skipped, saying so, where Xvfb or xwd is not installed
+/// (`apt-get install xvfb x11-apps`).
+#[cfg(feature = "preview")]
+#[test]
+fn preview_shows_the_picture_in_a_window_and_follows_edits() {
+    let have = |tool: &str| {
+        Command::new("sh")
+            .args(["-c", &format!("command -v {tool}")])
+            .output()
+            .is_ok_and(|o| o.status.success())
+    };
+    if !have("Xvfb") || !have("xwd") {
+        eprintln!("skipped: the preview test needs Xvfb and xwd");
+        return;
+    }
+    let display = format!(":{}", 50 + std::process::id() % 1000);
+    struct Kill(Child);
+    impl Drop for Kill {
+        fn drop(&mut self) {
+            let _ = self.0.kill();
+            let _ = self.0.wait();
+        }
+    }
+    let _xvfb = Kill(
+        Command::new("Xvfb")
+            .args([display.as_str(), "-screen", "0", "320x240x24"])
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("start Xvfb"),
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("scene.rt");
+    let out = dir.path().join("out.png");
+    std::fs::write(&scene, flat("rgb(1, 0, 0)")).unwrap();
+    let shot = dir.path().join("shot.xwd");
+    // How many pixels of the screen are `rgb`.
+    let count = |rgb: [u8; 3]| -> usize {
+        let ok = Command::new("xwd")
+            .args(["-root", "-display", &display, "-out"])
+            .arg(&shot)
+            .stderr(Stdio::null())
+            .status()
+            .is_ok_and(|s| s.success());
+        if !ok {
+            return 0;
+        }
+        xwd_pixels(&std::fs::read(&shot).unwrap())
+            .iter()
+            .filter(|p| **p == rgb)
+            .count()
+    };
+    let mut child = Command::new(env!("CARGO_BIN_EXE_raytrace"))
+        .args([
+            scene.as_os_str(),
+            "-o".as_ref(),
+            out.as_os_str(),
+            "--preview".as_ref(),
+        ])
+        .env("DISPLAY", &display)
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let _stderr = child.stderr.take();
+    let _child = Kill(child);
+    let wait_for = |what: &str, ok: &dyn Fn() -> bool| {
+        let start = Instant::now();
+        while !ok() {
+            assert!(start.elapsed() < BOUND, "the window never showed {what}");
+            std::thread::sleep(Duration::from_millis(100));
+        }
+    };
+    // The whole 64×48 picture is in the window, and more than most of
+    // it is on screen (the window may be scaled, never smaller).
+    wait_for("the red picture", &|| count(RED) >= 64 * 48 * 9 / 10);
+    std::fs::write(&scene, flat("rgb(0, 0, 1)")).unwrap();
+    wait_for("the edited picture", &|| {
+        count(BLUE) >= 64 * 48 * 9 / 10 && count(RED) == 0
+    });
+}
+
+/// The pixels of an X window dump (`xwd`, ZPixmap, 24 or 32 bits a
+/// pixel) as RGB.
+#[cfg(feature = "preview")]
+fn xwd_pixels(data: &[u8]) -> Vec<[u8; 3]> {
+    let field = |k: usize| u32::from_be_bytes(data[4 * k..4 * k + 4].try_into().unwrap()) as usize;
+    let (header, width, height) = (field(0), field(4), field(5));
+    let (lsb_first, bits, line, colours) = (field(7) == 0, field(11), field(12), field(19));
+    assert!(bits == 32 || bits == 24, "{bits} bits a pixel");
+    let start = header + colours * 12;
+    let mut out = Vec::with_capacity(width * height);
+    for y in 0..height {
+        for x in 0..width {
+            let at = start + y * line + x * (bits / 8);
+            // Most significant byte first, a 32-bit pixel is pad, R, G, B.
+            out.push(match (lsb_first, bits) {
+                (true, _) => [data[at + 2], data[at + 1], data[at]],
+                (false, 32) => [data[at + 1], data[at + 2], data[at + 3]],
+                (false, _) => [data[at], data[at + 1], data[at + 2]],
+            });
+        }
+    }
+    out
 }
