@@ -86,8 +86,8 @@ pub fn watch(args: &Args) -> Result<(), Failure> {
     loop {
         cancel.store(false, Ordering::SeqCst);
         let named = named_files(&args.scene);
+        files.follow(&named);
         if named != watched {
-            files.follow(&named);
             show(match named.len() - 1 {
                 0 => format!("watching {}; Ctrl-C to stop", args.scene.display()),
                 n => format!(
@@ -372,10 +372,13 @@ impl Files {
         for gone in self.folders.difference(&folders) {
             let _ = self.watcher.unwatch(gone);
         }
-        for new in folders.difference(&self.folders) {
+        // Every folder is watched again each round, not only new ones: a
+        // folder deleted and made again is a new one to the system, and
+        // asking again follows it (for one still watched it is a no-op).
+        for folder in &folders {
             // A folder that cannot be watched (gone a moment ago, no
             // permission) is skipped: the rest still are.
-            let _ = self.watcher.watch(new, RecursiveMode::NonRecursive);
+            let _ = self.watcher.watch(folder, RecursiveMode::NonRecursive);
         }
         self.folders = folders;
         *self.names.lock().unwrap_or_else(|e| e.into_inner()) = named.iter().cloned().collect();
