@@ -27,9 +27,11 @@ Exit status:
 
 A scheduler may retry 3 and 128+N; 1 and 2 fail the same way again.
 
-Subcommands:
+Other commands:
   raytrace merge TILES... -o FULL [--average]
-       put tiles from --tile or --region back together (see docs/farm.md)";
+       put tiles from --tile or --region back together (see docs/farm.md)
+  raytrace fmt [--check] FILE...
+       lay out .rt files canonically, in place (`-` for stdin to stdout)";
 
 /// Render a .rt scene to an image.
 #[derive(Parser, Debug, Clone)]
@@ -74,6 +76,17 @@ pub struct Args {
     /// success print a one-line summary.
     #[arg(long)]
     pub check: bool,
+
+    /// Render, then render again whenever the scene or a file it reads
+    /// changes (a quick coarse pass first, then the full picture), until
+    /// Ctrl-C; a scene with mistakes keeps the last good picture.
+    #[arg(long, conflicts_with = "check")]
+    pub watch: bool,
+
+    /// As --watch, and show each pass in a window (closing it stops);
+    /// needs a raytrace built with `--features preview`.
+    #[arg(long, conflicts_with = "check")]
+    pub preview: bool,
 
     /// Print timings and ray counts to stderr.
     #[arg(long)]

@@ -14,12 +14,15 @@ pub mod accel;
 pub mod cli;
 pub mod eval;
 pub mod farm;
+pub mod fmt;
 pub mod formats;
 pub mod geometry;
 pub mod guard;
 pub mod implicit;
 pub mod lang;
 pub mod output;
+#[cfg(feature = "preview")]
+pub mod preview;
 pub mod render;
 pub mod scene;
 pub mod shapes;
@@ -27,6 +30,7 @@ pub mod shapes;
 pub(crate) mod shared_data;
 pub mod signals;
 pub mod stdlib;
+pub mod watch;
 #[cfg(test)]
 pub(crate) mod watchdog;
 
@@ -39,6 +43,9 @@ use std::time::{Duration, Instant};
 /// Runs the command line: parse, build, check the output, accelerate,
 /// render, write. Each failure carries its exit status.
 pub fn run(args: &Args) -> Result<(), Failure> {
+    if args.watch || args.preview {
+        return watch::watch(args);
+    }
     if farm::wanted(args) {
         return farm::run(args);
     }
@@ -198,7 +205,7 @@ fn check_summary(program: &lang::Program, scene: &scene::Scene, warnings: usize)
 /// Every file the scene reads or may read, for the output to be checked
 /// against: the scene, its includes, and each string that names an
 /// existing file relative to the file it is written in (textures, meshes).
-fn inputs(program: &lang::Program) -> Vec<PathBuf> {
+pub(crate) fn inputs(program: &lang::Program) -> Vec<PathBuf> {
     let sources = &program.sources;
     let mut out: Vec<PathBuf> = (0..sources.len())
         .map(|i| sources.get(lang::ast::FileId(i as u32)).path.clone())
@@ -273,7 +280,10 @@ fn check_size(args: &Args, settings: &scene::RenderSettings) -> Result<()> {
 
 /// The part of the picture to render: `--region`, which must lie inside
 /// it, or all of it.
-fn picture_region(args: &Args, settings: &scene::RenderSettings) -> Result<render::Region> {
+pub(crate) fn picture_region(
+    args: &Args,
+    settings: &scene::RenderSettings,
+) -> Result<render::Region> {
     let (w, h) = (settings.width, settings.height);
     match args.region {
         None => Ok(render::Region {
@@ -293,7 +303,7 @@ fn picture_region(args: &Args, settings: &scene::RenderSettings) -> Result<rende
 
 /// The render's worker threads, started before any work so that a refusal
 /// (the system's thread limit) costs nothing.
-fn thread_pool(args: &Args) -> Result<rayon::ThreadPool> {
+pub(crate) fn thread_pool(args: &Args) -> Result<rayon::ThreadPool> {
     let mut pool = rayon::ThreadPoolBuilder::new();
     if let Some(n) = args.threads {
         pool = pool.num_threads(n as usize);
@@ -333,6 +343,7 @@ fn render_with_progress(
     };
     let opts = render::RenderOptions {
         progress: Some(&progress),
+        cancel: None,
     };
     let out = pool.install(|| render::render_region(scene, world, &opts, region));
     bar.finish_and_clear();

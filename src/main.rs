@@ -5,6 +5,7 @@ fn main() -> ExitCode {
     // Subcommands come before clap reads the render's own flags.
     match std::env::args().nth(1).as_deref() {
         Some("merge") => raytrace::farm::merge_main(),
+        Some("fmt") => raytrace::fmt::main(),
         _ => render(),
     }
 }

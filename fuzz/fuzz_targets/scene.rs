@@ -53,6 +53,6 @@ fuzz_target!(|data: &[u8]| {
     scene.settings.samples = scene.settings.samples.min(2);
     scene.settings.max_depth = scene.settings.max_depth.min(3);
     let world = raytrace::accel::World::build(std::mem::take(&mut scene.objects));
-    let opts = raytrace::render::RenderOptions { progress: None };
+    let opts = raytrace::render::RenderOptions { progress: None, cancel: None };
     let _ = raytrace::render::render(&scene, &world, &opts);
 });

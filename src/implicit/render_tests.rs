@@ -15,7 +15,15 @@ fn compile(s: &str) -> Equation {
 
 fn draw(mut scene: Scene) -> (crate::render::Film, crate::render::RenderStats) {
     let world = World::build(std::mem::take(&mut scene.objects));
-    render(&scene, &world, &RenderOptions { progress: None }).expect("the camera has a frame")
+    render(
+        &scene,
+        &world,
+        &RenderOptions {
+            progress: None,
+            cancel: None,
+        },
+    )
+    .expect("the camera has a frame")
 }
 
 /// The power cube's solid contains the unit ball (Σ|p_i|^N ≤ Σ p_i² ≤ 1

@@ -305,7 +305,7 @@ fn missing_include(rel: &str, path: &Path, string: Span) -> Error {
 /// aside), as an error. Terminal escapes would be echoed into the user's
 /// terminal by the excerpt of a later error (`ESC[31m` also reads as an
 /// unclosed `[`), and only binary data or a mangled file holds them.
-fn control_character(text: &str, file: FileId) -> Option<Error> {
+pub(crate) fn control_character(text: &str, file: FileId) -> Option<Error> {
     let (at, c) = text
         .char_indices()
         .find(|&(_, c)| c.is_control() && !matches!(c, '\t' | '\n' | '\r'))?;

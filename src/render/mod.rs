@@ -31,12 +31,22 @@ use camera::CameraRays;
 use integrator::{Integrator, Path};
 use rayon::prelude::*;
 use sampler::{Pixel, PixelSampler, SampleStream};
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 
 /// What the caller wants to see while rendering.
 pub struct RenderOptions<'a> {
     /// Called with the number of finished rows (from worker threads).
     pub progress: Option<&'a (dyn Fn(u64) + Sync)>,
+    /// Set from another thread to give the render up (`--watch` when the
+    /// scene changes mid-render): rows not yet started are skipped and the
+    /// render returns `None`.
+    pub cancel: Option<&'a AtomicBool>,
+}
+
+impl RenderOptions<'_> {
+    fn cancelled(&self) -> bool {
+        self.cancel.is_some_and(|c| c.load(Ordering::Relaxed))
+    }
 }
 
 /// The dimensions of a sample that place it in the pixel and on the lens.
@@ -68,8 +78,8 @@ pub fn render(scene: &Scene, world: &World, opts: &RenderOptions) -> Option<(Fil
 
 /// Renders the pixels of `region` (clipped to the picture) exactly as the
 /// full picture has them: every sample is a pure function of its pixel's
-/// place in the full picture. `None` when the camera has no frame or the
-/// region holds no pixel.
+/// place in the full picture. `None` when the camera has no frame, the
+/// region holds no pixel, or `opts.cancel` was set.
 pub fn render_region(
     scene: &Scene,
     world: &World,
@@ -112,6 +122,9 @@ pub fn render_region(
         .into_par_iter()
         .map(|b| {
             let mut counts = stats::RayCounts::default();
+            if opts.cancelled() {
+                return (Vec::new(), counts);
+            }
             let mut scratch = Scratch::default();
             let row = (region.x..x1)
                 .map(|a| {
@@ -134,6 +147,9 @@ pub fn render_region(
             (row, counts)
         })
         .collect();
+    if opts.cancelled() {
+        return None;
+    }
     let mut counts = stats::RayCounts::default();
     let mut film = Vec::with_capacity(((x1 - region.x) * (y1 - region.y)) as usize);
     for (row, c) in rows {

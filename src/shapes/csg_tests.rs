@@ -662,7 +662,10 @@ fn render(objects: Vec<Box<dyn Shape>>, eye: DVec3) -> crate::render::Film {
         ..Scene::default()
     };
     let world = crate::accel::World::build(objects);
-    let opts = crate::render::RenderOptions { progress: None };
+    let opts = crate::render::RenderOptions {
+        progress: None,
+        cancel: None,
+    };
     crate::render::render(&scene, &world, &opts).unwrap().0
 }
 

@@ -25,7 +25,10 @@ fn render_stats(src: &str, region: Option<Region>, threads: usize) -> (Film, Ren
         render_region(
             &scene,
             &world,
-            &RenderOptions { progress: None },
+            &RenderOptions {
+                progress: None,
+                cancel: None,
+            },
             region.unwrap_or(all),
         )
     })

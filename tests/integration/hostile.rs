@@ -30,7 +30,10 @@ fn outcome_at(dir: &Path, src: &str) -> Result<raytrace::render::Film, String> {
         scene.settings.height = 6;
         scene.settings.samples = 1;
         let world = raytrace::accel::World::build(std::mem::take(&mut scene.objects));
-        let opts = raytrace::render::RenderOptions { progress: None };
+        let opts = raytrace::render::RenderOptions {
+            progress: None,
+            cancel: None,
+        };
         raytrace::render::render(&scene, &world, &opts)
             .map(|(f, _)| f)
             .ok_or_else(|| "no camera frame".to_owned())

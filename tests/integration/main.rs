@@ -7,6 +7,7 @@ mod diagnostics;
 mod eval;
 mod examples;
 mod farm;
+mod fmt;
 mod geometry;
 mod golden;
 mod hostile;
@@ -24,5 +25,6 @@ mod shared_data;
 mod stdlib;
 mod support;
 mod textures;
+mod watch;
 #[path = "../../src/watchdog.rs"]
 mod watchdog;

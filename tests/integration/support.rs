@@ -50,9 +50,18 @@ pub fn render_path(path: &Path, size: Option<(u32, u32)>, threads: usize) -> Fil
         .num_threads(threads)
         .build()
         .expect("pool");
-    pool.install(|| raytrace::render::render(&scene, &world, &RenderOptions { progress: None }))
-        .expect("camera has a frame")
-        .0
+    pool.install(|| {
+        raytrace::render::render(
+            &scene,
+            &world,
+            &RenderOptions {
+                progress: None,
+                cancel: None,
+            },
+        )
+    })
+    .expect("camera has a frame")
+    .0
 }
 
 pub fn render_src(src: &str) -> Film {
