@@ -311,6 +311,57 @@ impl KdTree {
         });
     }
 
+    /// Calls `visit` on every item of every leaf whose cell may meet `b`
+    /// (an item may come more than once) until `visit` returns false;
+    /// returns false then. Each split plane is compared with a slack, so a
+    /// box touching a plane visits both sides.
+    pub fn overlapping(&self, b: &Aabb, mut visit: impl FnMut(u32) -> bool) -> bool {
+        let t = &self.bounds;
+        let apart = b.min.cmpgt(t.max).any() || b.max.cmplt(t.min).any();
+        if self.items.is_empty() || apart {
+            return true;
+        }
+        let (lo, hi) = (b.min.to_array(), b.max.to_array());
+        let mut stack = [0u32; STACK];
+        let mut sp = 0;
+        let mut node = 0usize;
+        loop {
+            let n = self.nodes[node];
+            if !n.is_leaf() {
+                let axis = (n.a & 3) as usize;
+                let split = f32::from_bits(n.b) as f64;
+                let slack = SLACK * split.abs().max(lo[axis].abs()).max(hi[axis].abs());
+                let below = lo[axis] <= split + slack;
+                let above = hi[axis] >= split - slack;
+                let (b_node, a_node) = (node + 1, (n.a >> 2) as usize);
+                match (below, above) {
+                    (true, true) => {
+                        stack[sp] = a_node as u32;
+                        sp += 1;
+                        node = b_node;
+                    }
+                    (true, false) => node = b_node,
+                    (false, true) => node = a_node,
+                    // Only for a NaN box: nothing to visit.
+                    (false, false) => return true,
+                }
+                continue;
+            }
+            let count = (n.a >> 2) as usize;
+            let off = n.b as usize;
+            for &i in &self.items[off..off + count] {
+                if !visit(i) {
+                    return false;
+                }
+            }
+            if sp == 0 {
+                return true;
+            }
+            sp -= 1;
+            node = stack[sp] as usize;
+        }
+    }
+
     /// Visits the leaves along the segment front to back. `leaf(items)`
     /// returns the search limit after it (the nearest hit so far). The walk
     /// ends as soon as the limit lies within the leaf just visited, or

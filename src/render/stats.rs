@@ -4,6 +4,9 @@ pub struct RayCounts {
     pub primary: u64,
     pub reflected: u64,
     pub shadow: u64,
+    /// Shadow rays that shaft culling found clear without casting them
+    /// (counted in `shadow` too: the same question, answered).
+    pub settled: u64,
     /// Pixels that adaptive sampling rendered again with more samples.
     pub refined: u64,
 }
@@ -13,6 +16,7 @@ impl RayCounts {
         self.primary += o.primary;
         self.reflected += o.reflected;
         self.shadow += o.shadow;
+        self.settled += o.settled;
         self.refined += o.refined;
     }
 
