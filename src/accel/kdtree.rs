@@ -75,6 +75,8 @@ pub struct TreeStats {
     pub max_leaf: usize,
     pub max_depth: usize,
     pub build_seconds: f64,
+    /// Bytes of the nodes and item lists ([`KdTree::memory`]).
+    pub bytes: usize,
 }
 
 #[derive(Clone, Debug)]
@@ -244,6 +246,7 @@ impl KdTree {
         let mut stats = b.stats;
         stats.nodes = b.nodes.len();
         stats.build_seconds = start.elapsed().as_secs_f64();
+        stats.bytes = b.nodes.len() * std::mem::size_of::<Node>() + b.items.len() * 4;
         KdTree {
             nodes: b.nodes,
             items: b.items,

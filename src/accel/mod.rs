@@ -29,6 +29,23 @@ pub struct AccelStats {
     /// Every mesh tree built so far in this process (meshes are built while
     /// the scene is, before the world; instances share one tree).
     pub meshes: MeshTreeTotals,
+    pub memory: AccelMemory,
+}
+
+/// Bytes held by the acceleration structures, for `--stats`: each kind
+/// of index adds its own field here.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct AccelMemory {
+    /// The scene-level kd-tree (nodes and item lists).
+    pub scene_tree: usize,
+    /// The meshes' own kd-trees (instances share one).
+    pub mesh_trees: usize,
+}
+
+impl AccelMemory {
+    pub fn total(&self) -> usize {
+        self.scene_tree + self.mesh_trees
+    }
 }
 
 /// Sums over the kd-trees of the meshes loaded.
@@ -41,9 +58,10 @@ pub struct MeshTreeTotals {
     pub references: u64,
     pub max_depth: u64,
     pub build_seconds: f64,
+    pub bytes: u64,
 }
 
-static MESH_TREES: [AtomicU64; 7] = [const { AtomicU64::new(0) }; 7];
+static MESH_TREES: [AtomicU64; 8] = [const { AtomicU64::new(0) }; 8];
 
 /// Called by each mesh once its tree is built.
 pub(crate) fn record_mesh_tree(s: &TreeStats) {
@@ -55,6 +73,7 @@ pub(crate) fn record_mesh_tree(s: &TreeStats) {
     m[4].fetch_add(s.references as u64, Ordering::Relaxed);
     m[5].fetch_max(s.max_depth as u64, Ordering::Relaxed);
     m[6].fetch_add((s.build_seconds * 1e9) as u64, Ordering::Relaxed);
+    m[7].fetch_add(s.bytes as u64, Ordering::Relaxed);
 }
 
 fn mesh_totals() -> MeshTreeTotals {
@@ -70,6 +89,7 @@ fn mesh_totals() -> MeshTreeTotals {
         references: v[4],
         max_depth: v[5],
         build_seconds: v[6] as f64 * 1e-9,
+        bytes: v[7],
     }
 }
 
@@ -126,13 +146,18 @@ impl World {
         }
         let boxes: Vec<_> = bounded.iter().map(|o| o.bounds()).collect();
         let tree = KdTree::build(&boxes);
+        let meshes = mesh_totals();
         let stats = AccelStats {
             objects: bounded.len() + unbounded.len(),
             unbounded: unbounded.len(),
             nodes: tree.stats.nodes,
             build_seconds: start.elapsed().as_secs_f64(),
             tree: tree.stats,
-            meshes: mesh_totals(),
+            meshes,
+            memory: AccelMemory {
+                scene_tree: tree.memory(),
+                mesh_trees: meshes.bytes as usize,
+            },
         };
         World {
             bounded,

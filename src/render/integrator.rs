@@ -69,17 +69,17 @@ impl<'a> Integrator<'a> {
 
     /// Colour seen along `ray` (unit direction), after `depth` bounces.
     pub fn trace(&self, ray: &Ray, depth: u32, path: &mut Path) -> Colour {
-        self.trace_far(ray, depth, path).0
-    }
-
-    /// [`Integrator::trace`] and how far the ray went before its hit (∞ on
-    /// a miss), for Beer absorption along it.
-    fn trace_far(&self, ray: &Ray, depth: u32, path: &mut Path) -> (Colour, f64) {
         if depth == 0 {
             path.counts.primary += 1;
         } else {
             path.counts.reflected += 1;
         }
+        self.trace_far(ray, depth, path).0
+    }
+
+    /// [`Integrator::trace`] and how far the ray went before its hit (∞ on
+    /// a miss), for Beer absorption along it; the caller counts the ray.
+    fn trace_far(&self, ray: &Ray, depth: u32, path: &mut Path) -> (Colour, f64) {
         let Some((mut hit, object)) = self.world.nearest(ray, 0.0, f64::INFINITY) else {
             return (self.miss(ray.dir), f64::INFINITY);
         };
@@ -301,11 +301,13 @@ impl<'a> Integrator<'a> {
         let side = dielectric::Interface::new(d, at.front);
         let split = dielectric::split(at.d, at.n, side.eta);
         let reflect_dir = mirror::reflect(at.d, at.n);
+        path.counts.reflected += 1;
         let (lr, sr) = self.trace_far(&Self::spawn(at, reflect_dir), depth + 1, path);
         let mut out = split.kr * dielectric::absorb(side.filter_here, sr) * lr;
         if let Some(t) = split.refracted {
             // The refracted ray leaves on the far side.
             let ray = Self::spawn(at, t);
+            path.counts.refracted += 1;
             let (lt, st) = self.trace_far(&ray, depth + 1, path);
             let kt = (1.0 - split.kr) / (side.eta * side.eta);
             out += kt * dielectric::absorb(side.filter_there, st) * lt;
