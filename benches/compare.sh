@@ -1,22 +1,39 @@
 #!/usr/bin/env bash
-# Side-by-side timing against POV-Ray 3.7, in one run on this machine.
+# Side-by-side timing against POV-Ray 3.7 and Intel Embree, in one run on
+# this machine.
 #
-#   benches/compare.sh                 # every benchmark scene, 1000x1000, 3 runs each
+#   benches/compare.sh                 # every benchmark scene + Embree, 1000x1000, 3 runs each
 #   RUNS=1 SIZE=300 benches/compare.sh # a quick look
-#   SCENES="torus sextic" benches/compare.sh
-#   SCENES="glass soft dof aa" benches/compare.sh   # the round-2 scenes
+#   SCENES="torus sextic" EMBREE=none benches/compare.sh
+#   SCENES="glass soft dof aa many" benches/compare.sh   # the round-2 scenes
 #
 # For each scene it renders POV-Ray's version (../shared/peers/povray/run.sh,
 # which installs POV-Ray when run as root) and ours (benches/scenes/NAME.rt,
-# release build), and prints medians of wall time and peak RSS, and the
-# ratio ours / POV-Ray. Images land in target/compare/.
+# release build), and prints medians of wall time and peak RSS, the ratio
+# ours / POV-Ray, and the spread (min-max) of our runs. Then the bunny with
+# Embree (../shared/peers/embree, built into $EMBREE_DIR with its build.sh;
+# `apt-get install libembree-dev` first): single rays at high and medium
+# build quality and 8-wide packets, and our bunny's wall over each.
+# Images land in target/compare/.
+#
+# Besides wall time it prints whole-process CPU time (user + system, GNU
+# time; POV-Ray's from run.sh's logs), which a loaded machine inflates far
+# less: compare CPU ratios when the load average is above the core count.
+#
+# Knobs: PEER [../shared/peers/povray], RUNS [3], SIZE [1000], THREADS [2],
+# REUSE_POV [0; 1 reads POV-Ray's last results instead of running it again],
+# SCENES [all ten], EMBREE [path to bunny_embree; built when missing; `none`
+# skips Embree], EMBREE_DIR [/tmp/embree-peer], PLY [../shared/data/bunny.ply]
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 PEER="${PEER:-$ROOT/../shared/peers/povray}"
 RUNS="${RUNS:-3}"
 SIZE="${SIZE:-1000}"
 THREADS="${THREADS:-2}"
-SCENES="${SCENES:-bunny bunny_flat torus sextic csg}"
+SCENES="${SCENES:-bunny bunny_flat torus sextic csg glass soft dof aa many}"
+EMBREE_DIR="${EMBREE_DIR:-/tmp/embree-peer}"
+EMBREE="${EMBREE:-$EMBREE_DIR/bunny_embree}"
+PLY="${PLY:-$ROOT/../shared/data/bunny.ply}"
 OUT="$ROOT/target/compare"
 mkdir -p "$OUT"
 
@@ -33,31 +50,85 @@ cargo build --release --quiet --manifest-path "$ROOT/Cargo.toml"
 BIN="$ROOT/target/release/raytrace"
 
 median() { sort -g | awk '{a[NR]=$1} END {print a[int((NR+1)/2)]}'; }
+spread() { sort -g | awk 'NR==1 {lo=$1} {hi=$1} END {printf "%.2f-%.2f", lo, hi}'; }
+
+echo "machine: $(nproc) cores, $(lscpu | sed -n 's/^Model name: *//p'); load before: $(uptime | sed 's/.*load average: //')" >&2
 
 pov_scenes=""
 for s in $SCENES; do pov_scenes="$pov_scenes $(pov_name "$s")"; done
-echo "== POV-Ray:$pov_scenes" >&2
-RUNS="$RUNS" SIZE="$SIZE" THREADS="$THREADS" ERRORS=0 TAG=compare SCENES="$pov_scenes" \
-  "$PEER/run.sh" >/dev/null
+if [ "${REUSE_POV:-0}" = 0 ]; then
+  echo "== POV-Ray:$pov_scenes" >&2
+  RUNS="$RUNS" SIZE="$SIZE" THREADS="$THREADS" ERRORS=0 TAG=compare SCENES="$pov_scenes" \
+    "$PEER/run.sh" >/dev/null
+else
+  echo "== POV-Ray: reusing the last run's results (REUSE_POV=1)" >&2
+fi
 PTSV="$PEER/out/results_compare.tsv"
+PLOG="$PEER/logs/compare"
 
-printf '%-11s %9s %9s %7s %9s %9s %7s  %s\n' scene ours_s pov_s ratio ours_MiB pov_MiB ratio rays/s
+# Whole-process CPU seconds (user + system) of POV-Ray's runs of one scene,
+# from its GNU time -v logs: on a loaded machine CPU time is inflated far
+# less than wall time.
+pov_cpu() {
+  for f in "$PLOG/$1".*.time; do
+    awk -F': ' '/User time/ {u=$2} /System time/ {s=$2} END {print u + s}' "$f"
+  done | median
+}
+
+printf '%-11s %8s %11s %8s %6s %8s %8s %6s %8s %8s %6s  %s\n' \
+  scene ours_s ours_spread pov_s ratio ours_cpu pov_cpu ratio ours_MiB pov_MiB ratio rays/s
+bunny_wall=""; bunny_cpu=""
 for s in $SCENES; do
-  walls=(); rss=(); rps=""
+  walls=(); rss=(); cpus=(); rps=""
   for i in $(seq 1 "$RUNS"); do
-    /usr/bin/time -f '%e %M' -o "$OUT/$s.time" "$BIN" "$ROOT/benches/scenes/$s.rt" \
+    /usr/bin/time -f '%e %M %U %S' -o "$OUT/$s.time" "$BIN" "$ROOT/benches/scenes/$s.rt" \
       -o "$OUT/$s.png" --width "$SIZE" --height "$SIZE" --threads "$THREADS" --quiet --stats \
       2>"$OUT/$s.stats"
-    read -r w m < "$OUT/$s.time"
-    walls+=("$w"); rss+=("$m")
+    read -r w m u sy < "$OUT/$s.time"
+    walls+=("$w"); rss+=("$m"); cpus+=("$(awk -v u="$u" -v s="$sy" 'BEGIN {print u + s}')")
     rps=$(awk '/^rays\/s/ {print $2}' "$OUT/$s.stats")
   done
   ow=$(printf '%s\n' "${walls[@]}" | median)
+  osp=$(printf '%s\n' "${walls[@]}" | spread)
   om=$(printf '%s\n' "${rss[@]}" | median)
+  oc=$(printf '%s\n' "${cpus[@]}" | median)
+  [ "$s" = bunny ] && bunny_wall="$ow" && bunny_cpu="$oc"
   pn=$(pov_name "$s")
   pw=$(awk -v s="$pn" -F'\t' 'NR==1 {for (i=1;i<=NF;i++) h[$i]=i} $1==s {print $h["wall_s"]}' "$PTSV")
   pm=$(awk -v s="$pn" -F'\t' 'NR==1 {for (i=1;i<=NF;i++) h[$i]=i} $1==s {print $h["maxrss_mib"]}' "$PTSV")
-  awk -v s="$s" -v ow="$ow" -v pw="$pw" -v om="$om" -v pm="$pm" -v r="$rps" 'BEGIN {
+  pc=$(pov_cpu "$pn")
+  awk -v s="$s" -v ow="$ow" -v osp="$osp" -v pw="$pw" -v oc="$oc" -v pc="$pc" -v om="$om" -v pm="$pm" -v r="$rps" 'BEGIN {
     omib = om / 1024;
-    printf "%-11s %9.3f %9.3f %7.3f %9.1f %9.1f %7.2f  %s\n", s, ow, pw, (pw > 0 ? ow / pw : 0), omib, pm, (pm > 0 ? omib / pm : 0), r }'
+    printf "%-11s %8.3f %11s %8.3f %6.3f %8.2f %8.2f %6.3f %8.1f %8.1f %6.2f  %s\n", s, ow, osp, pw, (pw > 0 ? ow / pw : 0), oc, pc, (pc > 0 ? oc / pc : 0), omib, pm, (pm > 0 ? omib / pm : 0), r }'
 done
+
+# Embree on the bunny: whole process, the same scene, size and threads.
+if [ "$EMBREE" = none ]; then
+  exit 0
+fi
+if [ ! -x "$EMBREE" ]; then
+  mkdir -p "$EMBREE_DIR"
+  cp "$ROOT/../shared/peers/embree/bunny_embree.cpp" "$ROOT/../shared/peers/embree/build.sh" "$EMBREE_DIR/"
+  "$EMBREE_DIR/build.sh"
+  EMBREE="$EMBREE_DIR/bunny_embree"
+fi
+echo "== Embree: $EMBREE" >&2
+printf '\n%-16s %8s %11s %8s %8s %12s %12s\n' embree_bunny wall_s spread cpu_s MiB bunny/embree bunny/e_cpu
+for mode in "single high" "single medium" "packet8 high" "packet8 medium"; do
+  set -- $mode
+  walls=(); rss=(); cpus=()
+  for i in $(seq 1 "$RUNS"); do
+    /usr/bin/time -f '%e %M %U %S' -o "$OUT/embree.time" "$EMBREE" --ply "$PLY" --out none \
+      --threads "$THREADS" --size "$SIZE" --mode "$1" --quality "$2" >/dev/null 2>&1
+    read -r w m u sy < "$OUT/embree.time"
+    walls+=("$w"); rss+=("$m"); cpus+=("$(awk -v u="$u" -v s="$sy" 'BEGIN {print u + s}')")
+  done
+  ew=$(printf '%s\n' "${walls[@]}" | median)
+  esp=$(printf '%s\n' "${walls[@]}" | spread)
+  em=$(printf '%s\n' "${rss[@]}" | median)
+  ec=$(printf '%s\n' "${cpus[@]}" | median)
+  awk -v n="$1 $2" -v ew="$ew" -v esp="$esp" -v ec="$ec" -v em="$em" -v bw="$bunny_wall" -v bc="$bunny_cpu" 'BEGIN {
+    printf "%-16s %8.3f %11s %8.2f %8.1f %12s %12s\n", n, ew, esp, ec, em / 1024,
+      (bw != "" && ew > 0 ? sprintf("%.2f", bw / ew) : "-"), (bc != "" && ec > 0 ? sprintf("%.2f", bc / ec) : "-") }'
+done
+echo "load after: $(uptime | sed 's/.*load average: //')" >&2

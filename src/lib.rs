@@ -350,6 +350,18 @@ fn render_with_progress(
     out.ok_or_else(|| miette::miette!("the camera has no valid frame"))
 }
 
+/// `812 B`, `3.4 KiB`, `2.27 MiB`.
+fn bytes(n: usize) -> String {
+    let n = n as f64;
+    if n < 1024.0 {
+        format!("{n} B")
+    } else if n < 1024.0 * 1024.0 {
+        format!("{:.1} KiB", n / 1024.0)
+    } else {
+        format!("{:.2} MiB", n / (1024.0 * 1024.0))
+    }
+}
+
 fn print_stats(
     parse: Duration,
     build: Duration,
@@ -384,14 +396,23 @@ fn print_stats(
             m.max_depth
         );
     }
+    let mem = &a.memory;
+    eprintln!(
+        "  memory   {:>10}  (scene tree {}, mesh trees {})",
+        bytes(mem.total()),
+        bytes(mem.scene_tree),
+        bytes(mem.mesh_trees)
+    );
     eprintln!("render     {:>10.3} s", stats.seconds);
     eprintln!("total      {:>10.3} s", total.as_secs_f64());
     eprintln!(
-        "rays       {:>10}  (primary {}, reflected {}, shadow {})",
+        "rays       {:>10}  (primary {}, reflected {}, refracted {}, shadow {}: {} settled by shaft culling)",
         r.total(),
         r.primary,
         r.reflected,
-        r.shadow
+        r.refracted,
+        r.shadow,
+        r.settled
     );
     // Camera samples per pixel: N² everywhere, more where adaptive
     // sampling refined a pixel.
@@ -401,8 +422,14 @@ fn print_stats(
         r.primary as f64 / pixels.max(1) as f64,
         r.refined
     );
+    // Each kind's count over the whole render's time (the kinds share it).
+    let per_s = |n: u64| n as f64 / stats.seconds.max(1e-9);
     eprintln!(
-        "rays/s     {:>10.0}",
-        r.total() as f64 / stats.seconds.max(1e-9)
+        "rays/s     {:>10.0}  (primary {:.0}, reflected {:.0}, refracted {:.0}, shadow {:.0})",
+        per_s(r.total()),
+        per_s(r.primary),
+        per_s(r.reflected),
+        per_s(r.refracted),
+        per_s(r.shadow)
     );
 }

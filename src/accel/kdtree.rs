@@ -75,6 +75,8 @@ pub struct TreeStats {
     pub max_leaf: usize,
     pub max_depth: usize,
     pub build_seconds: f64,
+    /// Bytes of the nodes and item lists ([`KdTree::memory`]).
+    pub bytes: usize,
 }
 
 #[derive(Clone, Debug)]
@@ -244,6 +246,7 @@ impl KdTree {
         let mut stats = b.stats;
         stats.nodes = b.nodes.len();
         stats.build_seconds = start.elapsed().as_secs_f64();
+        stats.bytes = b.nodes.len() * std::mem::size_of::<Node>() + b.items.len() * 4;
         KdTree {
             nodes: b.nodes,
             items: b.items,
@@ -309,6 +312,57 @@ impl KdTree {
             items.iter().for_each(|&i| visit(i));
             f64::INFINITY
         });
+    }
+
+    /// Calls `visit` on every item of every leaf whose cell may meet `b`
+    /// (an item may come more than once) until `visit` returns false;
+    /// returns false then. Each split plane is compared with a slack, so a
+    /// box touching a plane visits both sides.
+    pub fn overlapping(&self, b: &Aabb, mut visit: impl FnMut(u32) -> bool) -> bool {
+        let t = &self.bounds;
+        let apart = b.min.cmpgt(t.max).any() || b.max.cmplt(t.min).any();
+        if self.items.is_empty() || apart {
+            return true;
+        }
+        let (lo, hi) = (b.min.to_array(), b.max.to_array());
+        let mut stack = [0u32; STACK];
+        let mut sp = 0;
+        let mut node = 0usize;
+        loop {
+            let n = self.nodes[node];
+            if !n.is_leaf() {
+                let axis = (n.a & 3) as usize;
+                let split = f32::from_bits(n.b) as f64;
+                let slack = SLACK * split.abs().max(lo[axis].abs()).max(hi[axis].abs());
+                let below = lo[axis] <= split + slack;
+                let above = hi[axis] >= split - slack;
+                let (b_node, a_node) = (node + 1, (n.a >> 2) as usize);
+                match (below, above) {
+                    (true, true) => {
+                        stack[sp] = a_node as u32;
+                        sp += 1;
+                        node = b_node;
+                    }
+                    (true, false) => node = b_node,
+                    (false, true) => node = a_node,
+                    // Only for a NaN box: nothing to visit.
+                    (false, false) => return true,
+                }
+                continue;
+            }
+            let count = (n.a >> 2) as usize;
+            let off = n.b as usize;
+            for &i in &self.items[off..off + count] {
+                if !visit(i) {
+                    return false;
+                }
+            }
+            if sp == 0 {
+                return true;
+            }
+            sp -= 1;
+            node = stack[sp] as usize;
+        }
     }
 
     /// Visits the leaves along the segment front to back. `leaf(items)`

@@ -5,10 +5,12 @@
 //! implicit surfaces) are tested one by one beside it.
 
 mod kdtree;
+mod shaft;
 
 #[cfg(test)]
 pub(crate) use kdtree::counters;
 pub use kdtree::{BuildParams, Clip, KdTree, TreeStats};
+pub use shaft::Shaft;
 
 use crate::geometry::Ray;
 use crate::shapes::{Hit, Shape};
@@ -27,6 +29,23 @@ pub struct AccelStats {
     /// Every mesh tree built so far in this process (meshes are built while
     /// the scene is, before the world; instances share one tree).
     pub meshes: MeshTreeTotals,
+    pub memory: AccelMemory,
+}
+
+/// Bytes held by the acceleration structures, for `--stats`: each kind
+/// of index adds its own field here.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct AccelMemory {
+    /// The scene-level kd-tree (nodes and item lists).
+    pub scene_tree: usize,
+    /// The meshes' own kd-trees (instances share one).
+    pub mesh_trees: usize,
+}
+
+impl AccelMemory {
+    pub fn total(&self) -> usize {
+        self.scene_tree + self.mesh_trees
+    }
 }
 
 /// Sums over the kd-trees of the meshes loaded.
@@ -39,9 +58,10 @@ pub struct MeshTreeTotals {
     pub references: u64,
     pub max_depth: u64,
     pub build_seconds: f64,
+    pub bytes: u64,
 }
 
-static MESH_TREES: [AtomicU64; 7] = [const { AtomicU64::new(0) }; 7];
+static MESH_TREES: [AtomicU64; 8] = [const { AtomicU64::new(0) }; 8];
 
 /// Called by each mesh once its tree is built.
 pub(crate) fn record_mesh_tree(s: &TreeStats) {
@@ -53,6 +73,7 @@ pub(crate) fn record_mesh_tree(s: &TreeStats) {
     m[4].fetch_add(s.references as u64, Ordering::Relaxed);
     m[5].fetch_max(s.max_depth as u64, Ordering::Relaxed);
     m[6].fetch_add((s.build_seconds * 1e9) as u64, Ordering::Relaxed);
+    m[7].fetch_add(s.bytes as u64, Ordering::Relaxed);
 }
 
 fn mesh_totals() -> MeshTreeTotals {
@@ -68,6 +89,7 @@ fn mesh_totals() -> MeshTreeTotals {
         references: v[4],
         max_depth: v[5],
         build_seconds: v[6] as f64 * 1e-9,
+        bytes: v[7],
     }
 }
 
@@ -124,13 +146,18 @@ impl World {
         }
         let boxes: Vec<_> = bounded.iter().map(|o| o.bounds()).collect();
         let tree = KdTree::build(&boxes);
+        let meshes = mesh_totals();
         let stats = AccelStats {
             objects: bounded.len() + unbounded.len(),
             unbounded: unbounded.len(),
             nodes: tree.stats.nodes,
             build_seconds: start.elapsed().as_secs_f64(),
             tree: tree.stats,
-            meshes: mesh_totals(),
+            meshes,
+            memory: AccelMemory {
+                scene_tree: tree.memory(),
+                mesh_trees: meshes.bytes as usize,
+            },
         };
         World {
             bounded,
@@ -175,6 +202,93 @@ impl World {
                 !mailbox.seen(i) && self.bounded[i as usize].occludes(ray, t_min, t_max)
             })
         }
+    }
+}
+
+/// The objects of a [`World`] that may block the rays inside one
+/// [`Shaft`] (at most [`Blockers::MAX`]): the rays are tested against
+/// these alone, and not at all when there are none. An object that blocks
+/// a ray moves to the front, so the next ray of the grid tries it first
+/// (neighbouring rays are mostly blocked by the same object).
+#[derive(Clone, Copy, Debug)]
+pub struct Blockers {
+    /// Indices into `bounded`, or into `unbounded` with [`UNBOUNDED`] set.
+    ids: [u32; Blockers::MAX],
+    len: usize,
+}
+
+/// Marks an index into `World::unbounded` in [`Blockers`].
+const UNBOUNDED: u32 = 1 << 31;
+
+impl Blockers {
+    /// More than this many and the rays go through the tree as usual:
+    /// testing each ray against a long list costs more than the walk.
+    pub const MAX: usize = 8;
+
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    pub fn len(&self) -> usize {
+        self.len
+    }
+
+    /// Adds `id` unless present; false when the list is full.
+    fn push(&mut self, id: u32) -> bool {
+        if self.ids[..self.len].contains(&id) {
+            return true;
+        }
+        if self.len == Self::MAX {
+            return false;
+        }
+        self.ids[self.len] = id;
+        self.len += 1;
+        true
+    }
+}
+
+impl World {
+    /// The objects that may block a ray inside `shaft`, or `None` when
+    /// there are more than [`Blockers::MAX`].
+    pub fn blockers(&self, shaft: &Shaft) -> Option<Blockers> {
+        let mut b = Blockers {
+            ids: [0; Blockers::MAX],
+            len: 0,
+        };
+        let corners = shaft.vertices();
+        for (i, o) in self.unbounded.iter().enumerate() {
+            if !o.misses_hull(&corners) && !b.push(i as u32 | UNBOUNDED) {
+                return None;
+            }
+        }
+        let all = self.tree.overlapping(&shaft.bounds(), |i| {
+            !shaft.may_meet(&self.bounded[i as usize].bounds()) || b.push(i)
+        });
+        all.then_some(b)
+    }
+
+    /// [`World::occludes`] for a ray inside the shaft `blockers` were found
+    /// for.
+    pub fn occludes_among(
+        &self,
+        blockers: &mut Blockers,
+        ray: &Ray,
+        t_min: f64,
+        t_max: f64,
+    ) -> bool {
+        for k in 0..blockers.len {
+            let id = blockers.ids[k];
+            let o = if id & UNBOUNDED != 0 {
+                &self.unbounded[(id & !UNBOUNDED) as usize]
+            } else {
+                &self.bounded[id as usize]
+            };
+            if o.occludes(ray, t_min, t_max) {
+                blockers.ids[..=k].rotate_right(1);
+                return true;
+            }
+        }
+        false
     }
 }
 
@@ -231,5 +345,101 @@ mod tests {
                 assert!(!world.occludes(&ray, 1e-9, t * 0.999));
             }
         }
+    }
+
+    #[test]
+    fn shaft_blockers_decide_every_ray_as_the_tree_does() {
+        let _watchdog = crate::watchdog::start();
+        let mut s = 0x2545f4914f6cdd1du64;
+        let mut rnd = move || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s >> 11) as f64 / (1u64 << 53) as f64
+        };
+        // Small spheres in a 10-wide box above a floor; lights over them.
+        let mut objects: Vec<Box<dyn Shape>> = (0..60)
+            .map(|i| {
+                let c = DVec3::new(rnd() * 10.0 - 5.0, rnd() * 4.0, rnd() * 10.0 - 5.0);
+                Box::new(Sphere::new(c, 0.1 + 0.3 * rnd(), i)) as Box<dyn Shape>
+            })
+            .collect();
+        objects.push(Box::new(Plane::new(DVec3::Y, -0.5, 999)));
+        let world = World::build(objects);
+        let (mut used, mut empty, mut blocked, mut clear) = (0, 0, 0, 0);
+        for _ in 0..400 {
+            let apex = DVec3::new(rnd() * 10.0 - 5.0, rnd() * 4.0 - 0.4, rnd() * 10.0 - 5.0);
+            let corner = DVec3::new(rnd() * 8.0 - 4.0, 6.0 + rnd(), rnd() * 8.0 - 4.0);
+            let (eu, ev) = (
+                DVec3::new(0.5 + rnd(), 0.1, 0.0),
+                DVec3::new(0.0, 0.0, 0.5 + rnd()),
+            );
+            let corners = [corner, corner + eu, corner + eu + ev, corner + ev];
+            let Some(shaft) = Shaft::new(apex, corners) else {
+                continue;
+            };
+            let Some(mut b) = world.blockers(&shaft) else {
+                continue;
+            };
+            used += 1;
+            empty += b.is_empty() as u32;
+            for _ in 0..16 {
+                let y = corner + rnd() * eu + rnd() * ev;
+                let dist = (y - apex).length() * (1.0 - 1e-4);
+                let ray = Ray::new(apex, (y - apex).normalize());
+                let want = world.occludes(&ray, 0.0, dist);
+                assert_eq!(world.occludes_among(&mut b, &ray, 0.0, dist), want);
+                if want {
+                    blocked += 1;
+                } else {
+                    clear += 1;
+                }
+            }
+        }
+        // Every case was met: shafts with and without blockers, rays
+        // blocked and clear.
+        assert!(used > 200 && empty > 20 && empty < used, "{used} {empty}");
+        assert!(blocked > 200 && clear > 200, "{blocked} {clear}");
+    }
+
+    #[test]
+    fn a_floor_below_the_shaft_is_no_blocker_and_one_across_it_is() {
+        let corners = [
+            DVec3::new(-1.0, 6.0, -1.0),
+            DVec3::new(1.0, 6.0, -1.0),
+            DVec3::new(1.0, 6.0, 1.0),
+            DVec3::new(-1.0, 6.0, 1.0),
+        ];
+        let shaft = Shaft::new(DVec3::new(0.0, 1e-6, 0.0), corners).unwrap();
+        let below = World::build(vec![Box::new(Plane::new(DVec3::Y, 0.0, 0))]);
+        assert!(below.blockers(&shaft).unwrap().is_empty());
+        let across = World::build(vec![Box::new(Plane::new(DVec3::Y, 3.0, 0))]);
+        assert_eq!(across.blockers(&shaft).unwrap().len(), 1);
+        // A tilted plane through the apex's side of the shaft.
+        let tilted = World::build(vec![Box::new(Plane::new(
+            DVec3::new(1.0, 0.2, 0.0),
+            0.5,
+            0,
+        ))]);
+        assert_eq!(tilted.blockers(&shaft).unwrap().len(), 1);
+    }
+
+    #[test]
+    fn more_blockers_than_the_list_holds_send_the_rays_to_the_tree() {
+        let objects: Vec<Box<dyn Shape>> = (0..Blockers::MAX + 1)
+            .map(|i| {
+                let c = DVec3::new(0.0, 1.0 + 0.5 * i as f64, 0.0);
+                Box::new(Sphere::new(c, 0.1, i as u32)) as Box<dyn Shape>
+            })
+            .collect();
+        let world = World::build(objects);
+        let corners = [
+            DVec3::new(-1.0, 6.0, -1.0),
+            DVec3::new(1.0, 6.0, -1.0),
+            DVec3::new(1.0, 6.0, 1.0),
+            DVec3::new(-1.0, 6.0, 1.0),
+        ];
+        let shaft = Shaft::new(DVec3::ZERO, corners).unwrap();
+        assert!(world.blockers(&shaft).is_none());
     }
 }

@@ -20,10 +20,10 @@ use super::light::{self, LightSample, area, environment};
 use super::material::{dielectric, emissive, glossy, matte, mirror, phong};
 use super::sampler::SampleStream;
 use super::stats::RayCounts;
-use crate::accel::World;
+use crate::accel::{Blockers, Shaft, World};
 use crate::geometry::rounding::SHADOW_EPSILON;
 use crate::geometry::{DVec3, Ray, offset_along_unit, offset_ray_origin, valid_reflection_normal};
-use crate::scene::{AreaLight, Colour, Material, Scene, pattern};
+use crate::scene::{AreaLight, Colour, LightSurface, Material, Scene, pattern};
 
 /// A shadow ray through glass stops being followed after this many
 /// surfaces (it is then taken as blocked): bounded time for any scene.
@@ -69,17 +69,17 @@ impl<'a> Integrator<'a> {
 
     /// Colour seen along `ray` (unit direction), after `depth` bounces.
     pub fn trace(&self, ray: &Ray, depth: u32, path: &mut Path) -> Colour {
-        self.trace_far(ray, depth, path).0
-    }
-
-    /// [`Integrator::trace`] and how far the ray went before its hit (∞ on
-    /// a miss), for Beer absorption along it.
-    fn trace_far(&self, ray: &Ray, depth: u32, path: &mut Path) -> (Colour, f64) {
         if depth == 0 {
             path.counts.primary += 1;
         } else {
             path.counts.reflected += 1;
         }
+        self.trace_far(ray, depth, path).0
+    }
+
+    /// [`Integrator::trace`] and how far the ray went before its hit (∞ on
+    /// a miss), for Beer absorption along it; the caller counts the ray.
+    fn trace_far(&self, ray: &Ray, depth: u32, path: &mut Path) -> (Colour, f64) {
         let Some((mut hit, object)) = self.world.nearest(ray, 0.0, f64::INFINITY) else {
             return (self.miss(ray.dir), f64::INFINITY);
         };
@@ -192,7 +192,7 @@ impl<'a> Integrator<'a> {
         let mut light = matte::ambient(m, ambient);
         let mut highlight = Colour::ZERO;
         let v = -at.d;
-        let mut add = |s: LightSample, path: &mut Path| {
+        let mut add = |s: LightSample, path: &mut Path, blockers: Option<&mut Blockers>| {
             let cos = at.n.dot(s.dir);
             if cos <= 0.0 {
                 return;
@@ -200,7 +200,11 @@ impl<'a> Integrator<'a> {
             // An occluder counts up to the light less a sliver of the way
             // (the light may lie on a surface: an area light's sample).
             let reach = s.dist * (1.0 - SHADOW_EPSILON);
-            let t = self.transmittance(&Ray::new(at.lifted, s.dir), reach, path.counts);
+            let ray = Ray::new(at.lifted, s.dir);
+            let t = match blockers {
+                Some(b) => self.transmittance_among(b, &ray, reach, path.counts),
+                None => self.transmittance(&ray, reach, path.counts),
+            };
             if t == Colour::ZERO {
                 return;
             }
@@ -212,26 +216,30 @@ impl<'a> Integrator<'a> {
         };
         for l in &self.scene.lights {
             if let Some(s) = light::sample(l, at.lifted) {
-                add(s, path);
+                add(s, path, None);
             }
         }
         for l in &self.scene.area_lights {
             match l.samples {
                 None => {
                     let u = path.stream.next2();
-                    if let Some(s) = self.area_sample(l, at.lifted, u, path.counts) {
-                        add(s, path);
+                    let l = area::Prepared::new(l);
+                    if let Some(s) = self.area_sample(&l, at.lifted, u, path.counts) {
+                        add(s, path, None);
                     }
                 }
                 Some(k) => {
-                    // Its own k × k grid of cell centres, averaged.
+                    // Its own k × k grid of cell centres, averaged; the
+                    // rays are tested only against what may block them.
                     let w = 1.0 / (k * k) as f64;
+                    let mut blockers = self.grid_blockers(l, at.lifted);
+                    let l = area::Prepared::new(l);
                     for j in 0..k {
                         for i in 0..k {
                             let u = ((i as f64 + 0.5) / k as f64, (j as f64 + 0.5) / k as f64);
-                            if let Some(mut s) = self.area_sample(l, at.lifted, u, path.counts) {
+                            if let Some(mut s) = self.area_sample(&l, at.lifted, u, path.counts) {
                                 s.radiance *= w;
-                                add(s, path);
+                                add(s, path, blockers.as_mut());
                             }
                         }
                     }
@@ -264,12 +272,13 @@ impl<'a> Integrator<'a> {
     /// chosen where that ray meets the surface.
     fn area_sample(
         &self,
-        l: &AreaLight,
+        l: &area::Prepared,
         from: DVec3,
         u: (f64, f64),
         counts: &mut RayCounts,
     ) -> Option<LightSample> {
-        let mut s = area::sample(l, from, u)?;
+        let mut s = l.sample(from, u)?;
+        let l = l.light();
         if !l.clipped && !l.chosen {
             return Some(s);
         }
@@ -300,11 +309,13 @@ impl<'a> Integrator<'a> {
         let side = dielectric::Interface::new(d, at.front);
         let split = dielectric::split(at.d, at.n, side.eta);
         let reflect_dir = mirror::reflect(at.d, at.n);
+        path.counts.reflected += 1;
         let (lr, sr) = self.trace_far(&Self::spawn(at, reflect_dir), depth + 1, path);
         let mut out = split.kr * dielectric::absorb(side.filter_here, sr) * lr;
         if let Some(t) = split.refracted {
             // The refracted ray leaves on the far side.
             let ray = Self::spawn(at, t);
+            path.counts.refracted += 1;
             let (lt, st) = self.trace_far(&ray, depth + 1, path);
             let kt = (1.0 - split.kr) / (side.eta * side.eta);
             out += kt * dielectric::absorb(side.filter_there, st) * lt;
@@ -350,6 +361,63 @@ impl<'a> Integrator<'a> {
             (ray, left) = Self::through(&ray, &hit, left);
         }
         Colour::ZERO
+    }
+
+    /// The objects that may block a ray from `from` to any point of the
+    /// flat light `l` (accel/shaft.rs), or `None` when the rays should go
+    /// through the tree: a sphere light, a light inside CSG (its samples
+    /// cast rays of their own), a point in the light's plane, or too many
+    /// objects in the way.
+    fn grid_blockers(&self, l: &AreaLight, from: DVec3) -> Option<Blockers> {
+        if l.clipped {
+            return None;
+        }
+        let corners = match l.surface {
+            LightSurface::Rectangle {
+                corner,
+                edge_u,
+                edge_v,
+            } => [
+                corner,
+                corner + edge_u,
+                corner + edge_u + edge_v,
+                corner + edge_v,
+            ],
+            // The parallelogram around the (possibly sheared) disc.
+            LightSurface::Disc { centre, u, v, .. } => [
+                centre - u - v,
+                centre + u - v,
+                centre + u + v,
+                centre - u + v,
+            ],
+            LightSurface::Sphere { .. } => return None,
+        };
+        self.world.blockers(&Shaft::new(from, corners)?)
+    }
+
+    /// [`Integrator::transmittance`] for a ray inside the shaft `blockers`
+    /// were found for: clear at once when nothing may block it.
+    fn transmittance_among(
+        &self,
+        blockers: &mut Blockers,
+        ray: &Ray,
+        dist: f64,
+        counts: &mut RayCounts,
+    ) -> Colour {
+        if blockers.is_empty() {
+            counts.shadow += 1;
+            counts.settled += 1;
+            return Colour::ONE;
+        }
+        if self.has_glass {
+            return self.transmittance(ray, dist, counts);
+        }
+        counts.shadow += 1;
+        if self.world.occludes_among(blockers, ray, 0.0, dist) {
+            Colour::ZERO
+        } else {
+            Colour::ONE
+        }
     }
 
     /// A shadow ray continued past the surface it met at `hit`: restarted

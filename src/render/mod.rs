@@ -30,7 +30,7 @@ use crate::scene::{Colour, Scene};
 use camera::CameraRays;
 use integrator::{Integrator, Path};
 use rayon::prelude::*;
-use sampler::{Pixel, PixelSampler, SampleStream};
+use sampler::{Pixel, PixelKey, PixelSampler, SampleStream};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 
 /// What the caller wants to see while rendering.
@@ -194,12 +194,13 @@ impl PixelRenderer<'_> {
             sampler.pattern(pixel, LENS_DIM, &mut scratch.lens);
         }
         scratch.colours.clear();
+        let key = PixelKey::new(pixel, sampler.seed);
         let mut sum = Colour::ZERO;
         for (s, &(dx, dy)) in scratch.spots.iter().enumerate() {
             let q = scratch.lens.get(s).copied().unwrap_or((0.5, 0.5));
             let ray = self.camera.ray(pixel.x as f64 + dx, pixel.y as f64 + dy, q);
             let mut path = Path {
-                stream: SampleStream::new(pixel, s as u32, sampler.seed),
+                stream: SampleStream::new(key, s as u32),
                 counts,
             };
             let c = self.integrator.trace(&ray, 0, &mut path);

@@ -27,24 +27,43 @@ pub struct Pixel {
     pub y: u32,
 }
 
-/// A uniform number in [0, 1) for (pixel, sample, dimension, seed).
-pub fn uniform(p: Pixel, sample: u32, dim: u32, seed: u64) -> f64 {
-    let h = mix(
-        mix(mix(seed ^ 0x9e37_79b9_7f4a_7c15) ^ ((p.x as u64) << 32 | p.y as u64))
-            ^ ((sample as u64) << 32 | dim as u64),
-    );
-    (h >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
+/// The hash of (pixel, seed) that every number of one pixel starts from:
+/// worked out once per pixel, not once per number.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PixelKey(u64);
+
+impl PixelKey {
+    pub fn new(p: Pixel, seed: u64) -> PixelKey {
+        PixelKey(mix(
+            mix(seed ^ 0x9e37_79b9_7f4a_7c15) ^ ((p.x as u64) << 32 | p.y as u64)
+        ))
+    }
+
+    /// The 64 hashed bits for (sample, dimension).
+    #[inline]
+    fn bits(self, sample: u32, dim: u32) -> u64 {
+        mix(self.0 ^ ((sample as u64) << 32 | dim as u64))
+    }
+
+    /// [`uniform`].
+    #[inline]
+    pub fn uniform(self, sample: u32, dim: u32) -> f64 {
+        (self.bits(sample, dim) >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
+    }
+
+    /// Two uniform numbers in [0, 1) from one hash (32 bits each: plenty
+    /// for a position inside a pixel or on a lens, and half the hashing).
+    #[inline]
+    fn uniform_pair(self, sample: u32, dim: u32) -> (f64, f64) {
+        let h = self.bits(sample, dim);
+        const SCALE: f64 = 1.0 / (1u64 << 32) as f64;
+        ((h >> 32) as f64 * SCALE, (h & 0xffff_ffff) as f64 * SCALE)
+    }
 }
 
-/// Two uniform numbers in [0, 1) from one hash (32 bits each: plenty for
-/// a position inside a pixel or on a lens, and half the hashing).
-fn uniform_pair(p: Pixel, sample: u32, dim: u32, seed: u64) -> (f64, f64) {
-    let h = mix(
-        mix(mix(seed ^ 0x9e37_79b9_7f4a_7c15) ^ ((p.x as u64) << 32 | p.y as u64))
-            ^ ((sample as u64) << 32 | dim as u64),
-    );
-    const SCALE: f64 = 1.0 / (1u64 << 32) as f64;
-    ((h >> 32) as f64 * SCALE, (h & 0xffff_ffff) as f64 * SCALE)
+/// A uniform number in [0, 1) for (pixel, sample, dimension, seed).
+pub fn uniform(p: Pixel, sample: u32, dim: u32, seed: u64) -> f64 {
+    PixelKey::new(p, seed).uniform(sample, dim)
 }
 
 /// Fills `p` with a random permutation of 0..p.len() for one key, by
@@ -82,7 +101,8 @@ impl PixelSampler {
         out.clear();
         let n = self.n.clamp(1, MAX_SAMPLES);
         let nf = n as f64;
-        let r = |s: u32| uniform_pair(pixel, s, dim, self.seed);
+        let key = PixelKey::new(pixel, self.seed);
+        let r = |s: u32| key.uniform_pair(s, dim);
         match self.kind {
             SamplerKind::Regular => {
                 for j in 0..n {
@@ -136,24 +156,22 @@ impl PixelSampler {
 /// The random numbers one path of one sample draws, in order.
 #[derive(Clone, Debug)]
 pub struct SampleStream {
-    pixel: Pixel,
+    key: PixelKey,
     sample: u32,
-    seed: u64,
     dim: u32,
 }
 
 impl SampleStream {
-    pub fn new(pixel: Pixel, sample: u32, seed: u64) -> SampleStream {
+    pub fn new(key: PixelKey, sample: u32) -> SampleStream {
         SampleStream {
-            pixel,
+            key,
             sample,
-            seed,
             dim: PATH_DIMS,
         }
     }
 
     pub fn next1(&mut self) -> f64 {
-        let u = uniform(self.pixel, self.sample, self.dim, self.seed);
+        let u = self.key.uniform(self.sample, self.dim);
         self.dim += 1;
         u
     }
@@ -199,6 +217,24 @@ pub fn about(w: glam::DVec3, local: glam::DVec3) -> glam::DVec3 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_pixels_key_gives_the_numbers_of_the_whole_hash() {
+        // uniform(p, s, d, seed) = mix(mix(mix(seed ^ C) ^ (x, y)) ^ (s, d)),
+        // written out: the key only moves the first two mixes out of the loop.
+        for (x, y, s, d, seed) in [(0, 0, 0, 0, 0), (7, 3, 5, 9, 42), (999, 1, 63, 2, u64::MAX)] {
+            let p = Pixel { x, y };
+            let h = mix(
+                mix(mix(seed ^ 0x9e37_79b9_7f4a_7c15) ^ ((x as u64) << 32 | y as u64))
+                    ^ ((s as u64) << 32 | d as u64),
+            );
+            let key = PixelKey::new(p, seed);
+            assert_eq!(key.uniform(s, d), (h >> 11) as f64 / (1u64 << 53) as f64);
+            let pair = key.uniform_pair(s, d);
+            assert_eq!(pair.0, (h >> 32) as f64 / (1u64 << 32) as f64);
+            assert_eq!(pair.1, (h & 0xffff_ffff) as f64 / (1u64 << 32) as f64);
+        }
+    }
 
     fn points(kind: SamplerKind, n: u32, seed: u64) -> Vec<(f64, f64)> {
         let mut out = Vec::new();

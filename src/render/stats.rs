@@ -2,8 +2,14 @@
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct RayCounts {
     pub primary: u64,
+    /// Mirror, glossy and Fresnel-reflected rays.
     pub reflected: u64,
+    /// Rays refracted into or out of a dielectric.
+    pub refracted: u64,
     pub shadow: u64,
+    /// Shadow rays that shaft culling found clear without casting them
+    /// (counted in `shadow` too: the same question, answered).
+    pub settled: u64,
     /// Pixels that adaptive sampling rendered again with more samples.
     pub refined: u64,
 }
@@ -12,12 +18,14 @@ impl RayCounts {
     pub fn add(&mut self, o: &RayCounts) {
         self.primary += o.primary;
         self.reflected += o.reflected;
+        self.refracted += o.refracted;
         self.shadow += o.shadow;
+        self.settled += o.settled;
         self.refined += o.refined;
     }
 
     pub fn total(&self) -> u64 {
-        self.primary + self.reflected + self.shadow
+        self.primary + self.reflected + self.refracted + self.shadow
     }
 }
 

@@ -148,6 +148,13 @@ pub trait Shape: Send + Sync + std::fmt::Debug {
     /// The nearest hit with `t_min < t < t_max`.
     fn intersect(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<Hit>;
 
+    /// Whether the surface surely misses the convex hull of `points` (a
+    /// shadow shaft, accel/shaft.rs): only unbounded shapes are asked, the
+    /// others are culled by their boxes. `false` when unsure.
+    fn misses_hull(&self, _points: &[DVec3]) -> bool {
+        false
+    }
+
     /// Whether anything lies on the ray with `t_min < t < t_max`
     /// (shadow rays: no shading data needed).
     fn occludes(&self, ray: &Ray, t_min: f64, t_max: f64) -> bool {

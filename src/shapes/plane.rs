@@ -108,6 +108,24 @@ impl Shape for Plane {
         self.root_in(ray, t_min, t_max).is_some()
     }
 
+    /// Every point clearly on one side (by far more than the rounding of
+    /// n·p − d): the hull lies in an open half-space.
+    fn misses_hull(&self, points: &[DVec3]) -> bool {
+        let side = |p: &DVec3| {
+            let s = self.normal.dot(*p) - self.offset;
+            let slack = 1e-9 * (self.normal.abs().dot(p.abs()) + self.offset.abs());
+            if s > slack {
+                1
+            } else if s < -slack {
+                -1
+            } else {
+                0
+            }
+        };
+        let first = points.first().map_or(0, side);
+        first != 0 && points.iter().all(|p| side(p) == first)
+    }
+
     fn crossings_lite(&self, ray: &Ray, out: &mut Vec<Crossing>) {
         if let Some(t) = self.root(ray) {
             out.push(Crossing::new(t, self.normal, ray, 0));

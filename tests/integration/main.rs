@@ -22,6 +22,7 @@ mod placement;
 mod render;
 #[path = "../../src/shared_data.rs"]
 mod shared_data;
+mod speed;
 mod stdlib;
 mod support;
 mod textures;

@@ -39,6 +39,21 @@ use crate::scene::{AreaLight, LightSurface};
 /// A point on the surface for the square sample `u`, with the surface's
 /// unit outward normal there.
 pub fn point_on(s: &LightSurface, u: (f64, f64)) -> (DVec3, DVec3) {
+    point_at(s, u, flat_normal(s))
+}
+
+/// The unit normal of a rectangle (zero for the other surfaces, whose
+/// normal depends on the point).
+fn flat_normal(s: &LightSurface) -> DVec3 {
+    match s {
+        LightSurface::Rectangle { edge_u, edge_v, .. } => edge_u.cross(*edge_v).normalize(),
+        _ => DVec3::ZERO,
+    }
+}
+
+/// [`point_on`] with the rectangle's normal given.
+#[inline]
+fn point_at(s: &LightSurface, u: (f64, f64), flat_normal: DVec3) -> (DVec3, DVec3) {
     match s {
         LightSurface::Sphere { centre, radius } => {
             let z = 1.0 - 2.0 * u.0;
@@ -61,10 +76,7 @@ pub fn point_on(s: &LightSurface, u: (f64, f64)) -> (DVec3, DVec3) {
             corner,
             edge_u,
             edge_v,
-        } => (
-            *corner + u.0 * *edge_u + u.1 * *edge_v,
-            edge_u.cross(*edge_v).normalize(),
-        ),
+        } => (*corner + u.0 * *edge_u + u.1 * *edge_v, flat_normal),
     }
 }
 
@@ -80,33 +92,62 @@ pub fn area(s: &LightSurface) -> f64 {
 /// The light from the point of `light` at square sample `u`, as seen from
 /// `from`; `None` when that point faces away.
 pub fn sample(light: &AreaLight, from: DVec3, u: (f64, f64)) -> Option<LightSample> {
-    if let LightSurface::Sphere { centre, radius } = light.surface
-        && !light.clipped
-        && let Some(s) = sphere_cone(centre, radius, from, u)
-    {
-        return Some(LightSample {
-            radiance: light.emit * s.radiance.x,
-            ..s
-        });
+    Prepared::new(light).sample(from, u)
+}
+
+/// An area light with what all its samples share worked out once (a
+/// grid's 64 samples per shading point would otherwise find the same
+/// normal and area 64 times).
+pub struct Prepared<'a> {
+    light: &'a AreaLight,
+    flat_normal: DVec3,
+    area: f64,
+}
+
+impl<'a> Prepared<'a> {
+    pub fn new(light: &'a AreaLight) -> Self {
+        Prepared {
+            light,
+            flat_normal: flat_normal(&light.surface),
+            area: area(&light.surface),
+        }
     }
-    let (y, ny) = point_on(&light.surface, u);
-    let to = y - from;
-    let d2 = to.length_squared();
-    let dist = d2.sqrt();
-    let dir = to / dist;
-    let mut cos_y = -ny.dot(dir);
-    if light.two_sided {
-        cos_y = cos_y.abs();
+
+    pub fn light(&self) -> &'a AreaLight {
+        self.light
     }
-    if cos_y <= 0.0 || d2 == 0.0 {
-        return None;
+
+    /// [`sample`].
+    pub fn sample(&self, from: DVec3, u: (f64, f64)) -> Option<LightSample> {
+        let light = self.light;
+        if let LightSurface::Sphere { centre, radius } = light.surface
+            && !light.clipped
+            && let Some(s) = sphere_cone(centre, radius, from, u)
+        {
+            return Some(LightSample {
+                radiance: light.emit * s.radiance.x,
+                ..s
+            });
+        }
+        let (y, ny) = point_at(&light.surface, u, self.flat_normal);
+        let to = y - from;
+        let d2 = to.length_squared();
+        let dist = d2.sqrt();
+        let dir = to / dist;
+        let mut cos_y = -ny.dot(dir);
+        if light.two_sided {
+            cos_y = cos_y.abs();
+        }
+        if cos_y <= 0.0 || d2 == 0.0 {
+            return None;
+        }
+        Some(LightSample {
+            dir,
+            // Stop short of the light's own surface, which y lies on.
+            dist: dist * (1.0 - 1e-9),
+            radiance: light.emit * (cos_y / d2 * self.area),
+        })
     }
-    Some(LightSample {
-        dir,
-        // Stop short of the light's own surface, which y lies on.
-        dist: dist * (1.0 - 1e-9),
-        radiance: light.emit * (cos_y / d2 * area(&light.surface)),
-    })
 }
 
 /// A point of the cap of the sphere (`centre`, `radius`) that `from` sees,

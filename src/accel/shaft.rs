@@ -1,0 +1,216 @@
+//! Shaft culling (Haines & Wallace, "Shaft culling for efficient
+//! ray-cast radiosity", 1994) for an area light's grid of shadow rays.
+//!
+//! All the shadow rays from one shading point to the n × n points of a
+//! flat light lie inside one pyramid: its apex is the point the rays start
+//! from, its base the light's parallelogram pulled a little towards the
+//! apex (every ray stops short of the light, [`BASE_PULL`] is less than
+//! that). An object whose bounding box lies wholly outside the pyramid
+//! cannot block any of those rays, so the rays need only be tested against
+//! the few boxes that may meet it; when there are none, every ray of the
+//! grid is known to be clear without casting one. That is exact: it
+//! decides nothing a ray would not (the boxes bound the objects, and the
+//! box test keeps any box within a rounding margin of the pyramid).
+//!
+//! ```text
+//! pyramid  = hull(apex, apex + (c_k − apex)(1 − BASE_PULL), k = 0..3)
+//! reject a box when, for one face plane (n, d) with n outward,
+//!            min over the box's corners of n·x − d  >  margin
+//! ```
+
+use crate::geometry::{Aabb, DVec3};
+
+/// How far the base is pulled from the light towards the apex, as a
+/// fraction of the way. Shadow rays stop 10⁻⁴ of their length short of
+/// the light (`SHADOW_EPSILON`), so their ends lie inside the pyramid, and
+/// the light's own surface lies outside it.
+pub const BASE_PULL: f64 = 1e-5;
+
+/// Relative slack on each plane test, far above the rounding of the
+/// points, the planes and the boxes (~10⁻¹⁵ of the coordinates).
+const MARGIN: f64 = 1e-9;
+
+/// The pyramid from one point to a parallelogram: five face planes with
+/// outward normals, and its bounding box.
+#[derive(Clone, Copy, Debug)]
+pub struct Shaft {
+    /// (n, d): outside is n·x > d.
+    planes: [(DVec3, f64); 5],
+    /// Per plane, the slack the box test allows.
+    margins: [f64; 5],
+    bounds: Aabb,
+    vertices: [DVec3; 5],
+}
+
+impl Shaft {
+    /// The pyramid from `apex` to the parallelogram with corners `corners`
+    /// (in order around it), pulled by [`BASE_PULL`]. `None` when the apex
+    /// lies in (or within rounding of) the parallelogram's plane, or the
+    /// parallelogram has no area: the caller casts every ray then.
+    pub fn new(apex: DVec3, corners: [DVec3; 4]) -> Option<Shaft> {
+        let base = corners.map(|c| apex + (c - apex) * (1.0 - BASE_PULL));
+        let scale = base
+            .iter()
+            .fold(apex.abs().max_element(), |m, c| {
+                m.max(c.abs().max_element())
+            })
+            .max(f64::MIN_POSITIVE);
+        let centre = (base[0] + base[1] + base[2] + base[3]) * 0.25;
+        let inside = (apex + centre * 4.0) * 0.2;
+        let mut planes = [(DVec3::ZERO, 0.0); 5];
+        let mut margins = [0.0; 5];
+        let mut face = |k: usize, a: DVec3, b: DVec3, c: DVec3| -> Option<()> {
+            let n = (b - a).cross(c - a);
+            let len = n.length();
+            if len == 0.0 || !len.is_finite() {
+                return None;
+            }
+            let mut n = n / len;
+            let mut d = n.dot(a);
+            // The apex must lie clearly inside every side and off the base.
+            let depth = d - n.dot(inside);
+            if depth.abs() <= 1e-6 * scale {
+                return None;
+            }
+            if depth < 0.0 {
+                n = -n;
+                d = -d;
+            }
+            planes[k] = (n, d);
+            margins[k] = MARGIN * scale;
+            Some(())
+        };
+        for k in 0..4 {
+            face(k, apex, base[k], base[(k + 1) % 4])?;
+        }
+        face(4, base[0], base[1], base[2])?;
+        let mut bounds = Aabb::new(apex, base[0]);
+        for c in &base[1..] {
+            bounds = bounds.grow(*c);
+        }
+        let pad = DVec3::splat(MARGIN * scale);
+        bounds = Aabb {
+            min: bounds.min - pad,
+            max: bounds.max + pad,
+        };
+        Some(Shaft {
+            planes,
+            margins,
+            bounds,
+            vertices: [apex, base[0], base[1], base[2], base[3]],
+        })
+    }
+
+    /// The pyramid's apex and the four corners of its base.
+    pub fn vertices(&self) -> [DVec3; 5] {
+        self.vertices
+    }
+
+    /// The pyramid's bounding box (padded by the margin).
+    pub fn bounds(&self) -> Aabb {
+        self.bounds
+    }
+
+    /// Whether `b` may meet the pyramid: false only when it lies outside
+    /// the pyramid's box or wholly outside one face.
+    pub fn may_meet(&self, b: &Aabb) -> bool {
+        if b.is_empty() {
+            return false;
+        }
+        let s = &self.bounds;
+        if b.min.x > s.max.x
+            || b.min.y > s.max.y
+            || b.min.z > s.max.z
+            || b.max.x < s.min.x
+            || b.max.y < s.min.y
+            || b.max.z < s.min.z
+        {
+            return false;
+        }
+        for ((n, d), m) in self.planes.iter().zip(self.margins) {
+            // The box's corner farthest inside this face.
+            let p = DVec3::new(
+                if n.x > 0.0 { b.min.x } else { b.max.x },
+                if n.y > 0.0 { b.min.y } else { b.max.y },
+                if n.z > 0.0 { b.min.z } else { b.max.z },
+            );
+            if n.dot(p) - d > m {
+                return false;
+            }
+        }
+        true
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn unit_box(c: DVec3, r: f64) -> Aabb {
+        Aabb::new(c - DVec3::splat(r), c + DVec3::splat(r))
+    }
+
+    /// A 2 × 2 light at height 6 over the origin, seen from the floor.
+    fn shaft(apex: DVec3) -> Shaft {
+        let corners = [
+            DVec3::new(-1.0, 6.0, -1.0),
+            DVec3::new(1.0, 6.0, -1.0),
+            DVec3::new(1.0, 6.0, 1.0),
+            DVec3::new(-1.0, 6.0, 1.0),
+        ];
+        Shaft::new(apex, corners).unwrap()
+    }
+
+    #[test]
+    fn boxes_on_the_way_meet_it_and_boxes_beside_it_do_not() {
+        let s = shaft(DVec3::ZERO);
+        assert!(s.may_meet(&unit_box(DVec3::new(0.0, 3.0, 0.0), 0.1)));
+        // Touching the pyramid's side from outside by a little: the side
+        // at height 3 is at x = 0.5.
+        assert!(s.may_meet(&unit_box(DVec3::new(0.55, 3.0, 0.0), 0.1)));
+        assert!(!s.may_meet(&unit_box(DVec3::new(0.65, 3.0, 0.0), 0.1)));
+        // Inside the pyramid's box but outside its slanted side.
+        assert!(!s.may_meet(&unit_box(DVec3::new(0.9, 1.0, 0.9), 0.05)));
+        // Below the apex, above the light.
+        assert!(!s.may_meet(&unit_box(DVec3::new(0.0, -0.5, 0.0), 0.4)));
+        assert!(!s.may_meet(&unit_box(DVec3::new(0.0, 7.0, 0.0), 0.5)));
+    }
+
+    #[test]
+    fn the_light_itself_lies_outside_and_a_box_just_below_it_inside() {
+        let s = shaft(DVec3::ZERO);
+        let light = Aabb::new(DVec3::new(-1.0, 6.0, -1.0), DVec3::new(1.0, 6.0, 1.0));
+        assert!(!s.may_meet(&light));
+        let under = Aabb::new(DVec3::new(-1.0, 5.999, -1.0), DVec3::new(1.0, 5.999, 1.0));
+        assert!(s.may_meet(&under));
+    }
+
+    #[test]
+    fn every_ray_to_the_light_stays_inside() {
+        // Points of each ray (to the light less SHADOW_EPSILON) as tiny
+        // boxes: the test must keep every one.
+        let apex = DVec3::new(0.3, 0.01, 2.0);
+        let s = shaft(apex);
+        for i in 0..=10 {
+            for j in 0..=10 {
+                let y = DVec3::new(-1.0 + 0.2 * i as f64, 6.0, -1.0 + 0.2 * j as f64);
+                for k in 1..=20 {
+                    let p = apex + (y - apex) * (k as f64 / 20.0) * (1.0 - 1e-4);
+                    assert!(s.may_meet(&Aabb::new(p, p)), "{p}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn an_apex_in_the_lights_plane_gives_no_shaft() {
+        let corners = [
+            DVec3::new(-1.0, 6.0, -1.0),
+            DVec3::new(1.0, 6.0, -1.0),
+            DVec3::new(1.0, 6.0, 1.0),
+            DVec3::new(-1.0, 6.0, 1.0),
+        ];
+        assert!(Shaft::new(DVec3::new(5.0, 6.0, 0.0), corners).is_none());
+        assert!(Shaft::new(DVec3::new(5.0, 6.0, 0.0), [corners[0]; 4]).is_none());
+    }
+}
