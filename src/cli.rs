@@ -138,6 +138,7 @@ impl Args {
                 depth: self.max_recursion,
                 steps: self.max_steps,
             },
+            cancel: None,
         })
     }
 }

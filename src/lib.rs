@@ -18,6 +18,7 @@ pub mod geometry;
 pub mod guard;
 pub mod implicit;
 pub mod lang;
+pub mod lsp;
 pub mod output;
 pub mod render;
 pub mod scene;

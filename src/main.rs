@@ -2,6 +2,14 @@ use clap::Parser;
 use std::process::ExitCode;
 
 fn main() -> ExitCode {
+    // Subcommands, before the render's own arguments are parsed.
+    match std::env::args().nth(1).as_deref() {
+        Some("lsp") => raytrace::lsp::main(),
+        _ => render(),
+    }
+}
+
+fn render() -> ExitCode {
     let args = raytrace::cli::Args::parse();
     // A signal while the image is being written would leave its temporary
     // file behind; the handler removes it and exits as a shell expects of

@@ -1,0 +1,204 @@
+//! Checking a document as `raytrace --check` does (parse, evaluate, build;
+//! never render), within a budget, and turning every mistake into an LSP
+//! diagnostic in the file it is in: the same messages and spans as the
+//! command line, errors in an included file published for that file (and
+//! summed up at the `include` in the document).
+
+use super::analysis::Analysis;
+use super::uri;
+use crate::eval::{Limits, Options};
+use crate::lang::ast::{FileId, Span};
+use crate::lang::diagnostics::Error;
+use lsp_types::{Diagnostic, DiagnosticRelatedInformation, DiagnosticSeverity, Location};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::sync::atomic::AtomicBool;
+
+/// The evaluation budget of one check: far below the command line's, so
+/// that a runaway loop costs an editor a fraction of a second. A scene
+/// past it is checked up to there (an information note says so);
+/// `raytrace --check` checks it all.
+pub const LIMITS: Limits = Limits {
+    iterations: 1_000_000,
+    objects: 1_000_000,
+    depth: 100,
+    steps: 20_000_000,
+};
+
+/// What one check found.
+pub struct Report {
+    /// Diagnostics for each file the program read, clean ones included
+    /// (with none), so that an editor clears what was fixed.
+    pub diagnostics: BTreeMap<PathBuf, Vec<Diagnostic>>,
+    /// `None` when not even the document parsed.
+    pub analysis: Option<Arc<Analysis>>,
+}
+
+/// Checks `text` as the scene file at `path` (includes are read from disk,
+/// relative to it). `cancel` stops the evaluation early: a newer version of
+/// the document has arrived and this report will not be used.
+pub fn check(path: &Path, text: &str, cancel: Option<Arc<AtomicBool>>) -> Report {
+    let (program, load_errors) = crate::lang::load_text_all(path, text.to_string());
+    let (mut errors, warnings, values) = if load_errors.is_empty() {
+        let options = Options {
+            limits: LIMITS,
+            cancel,
+            ..Options::default()
+        };
+        let checked = crate::scene::check(&program, &options);
+        (checked.errors, checked.warnings, checked.bound)
+    } else {
+        (load_errors, Vec::new(), Vec::new())
+    };
+    // As the command line: in file order, each mistake once.
+    errors.sort_by_key(|e| (e.span.file, e.span.start));
+    errors.dedup_by(|a, b| a.span == b.span && a.message == b.message);
+    let root_parsed = !program.items.is_empty() || text.trim().is_empty() || errors.is_empty();
+    let analysis = Arc::new(Analysis::new(&program, &values));
+    let mut diagnostics: BTreeMap<PathBuf, Vec<Diagnostic>> = BTreeMap::new();
+    for f in analysis.files.iter().filter(|f| !f.standard) {
+        diagnostics.entry(f.path.clone()).or_default();
+    }
+    // Errors in included files, by the `include` in the document that led there.
+    let mut via: BTreeMap<(usize, usize), Vec<&Error>> = BTreeMap::new();
+    for e in &errors {
+        let file = e.span.file;
+        if !analysis.file(file).standard {
+            let d = diagnostic(&analysis, e, DiagnosticSeverity::ERROR);
+            diagnostics
+                .entry(analysis.file(file).path.clone())
+                .or_default()
+                .push(d);
+        }
+        if file != analysis.root
+            && let Some(at) = chain(&analysis, file).last()
+        {
+            via.entry((at.start, at.end)).or_default().push(e);
+        }
+    }
+    for ((start, end), errs) in via {
+        let span = Span::new(analysis.root, start, end);
+        let name = &analysis.file(errs[0].span.file).name;
+        let message = match errs.len() {
+            1 => format!(
+                "the included file `{name}` has a mistake: {}",
+                errs[0].message
+            ),
+            n => format!(
+                "the included files have {n} mistakes; the first, in `{name}`: {}",
+                errs[0].message
+            ),
+        };
+        let mut d = diagnostic(
+            &analysis,
+            &Error::new(span, message),
+            DiagnosticSeverity::ERROR,
+        );
+        d.related_information = Some(
+            errs.iter()
+                .filter_map(|e| related(&analysis, e.span, &e.message))
+                .collect(),
+        );
+        diagnostics
+            .entry(analysis.file(analysis.root).path.clone())
+            .or_default()
+            .push(d);
+    }
+    for (span, text) in warnings {
+        let e = Error::new(span, text);
+        let d = diagnostic(&analysis, &e, DiagnosticSeverity::WARNING);
+        diagnostics
+            .entry(analysis.file(span.file).path.clone())
+            .or_default()
+            .push(d);
+    }
+    Report {
+        diagnostics,
+        analysis: root_parsed.then_some(analysis),
+    }
+}
+
+/// The spans of the `include` strings that led to a file, innermost first.
+fn chain(a: &Analysis, file: FileId) -> Vec<Span> {
+    let mut out = Vec::new();
+    let mut cur = file;
+    while let Some(inc) = a.includes.iter().find(|i| i.target == cur) {
+        out.push(inc.span);
+        cur = inc.span.file;
+        if out.len() > a.files.len() {
+            break;
+        }
+    }
+    out
+}
+
+/// Whether an error is the editor's budget running out rather than a
+/// mistake `raytrace` would report.
+fn over_budget(e: &Error) -> bool {
+    e.message
+        == format!(
+            "the scene program ran for more than {} evaluation steps",
+            LIMITS.steps
+        )
+        || e.message == format!("the scene makes more than {} objects", LIMITS.objects)
+}
+
+fn diagnostic(a: &Analysis, e: &Error, mut severity: DiagnosticSeverity) -> Diagnostic {
+    let f = a.file(e.span.file);
+    let range = f.lines.range(&f.text, e.span.start, e.span.end);
+    // The message as the command line prints it: the headline, the
+    // label under the characters, and the help.
+    let mut message = e.message.clone();
+    if over_budget(e) {
+        severity = DiagnosticSeverity::INFORMATION;
+        message = format!(
+            "the editor stopped checking here ({message}); `raytrace --check` checks the whole scene"
+        );
+    } else {
+        if !e.label.is_empty() && e.label != "here" {
+            message.push_str(&format!("\n{}", e.label));
+        }
+        if let Some(h) = &e.help {
+            message.push_str(&format!("\nhelp: {h}"));
+        }
+    }
+    let mut related: Vec<DiagnosticRelatedInformation> = e
+        .notes
+        .iter()
+        .filter_map(|(span, note)| related(a, *span, note))
+        .collect();
+    for (k, inc) in chain(a, e.span.file).into_iter().enumerate() {
+        let step = if k == 0 {
+            "included from here"
+        } else {
+            "which is included from here"
+        };
+        related.extend(self::related(a, inc, step));
+    }
+    Diagnostic {
+        range,
+        severity: Some(severity),
+        code: None,
+        code_description: None,
+        source: Some("raytrace".into()),
+        message,
+        related_information: (!related.is_empty()).then_some(related),
+        tags: None,
+        data: None,
+    }
+}
+
+fn related(a: &Analysis, span: Span, note: &str) -> Option<DiagnosticRelatedInformation> {
+    let f = a.file(span.file);
+    if f.standard {
+        return None;
+    }
+    Some(DiagnosticRelatedInformation {
+        location: Location {
+            uri: uri::from_path(&f.path)?,
+            range: f.lines.range(&f.text, span.start, span.end),
+        },
+        message: note.to_string(),
+    })
+}
