@@ -11,6 +11,7 @@ mod golden;
 mod hostile;
 mod lang;
 mod looks;
+mod lsp;
 mod material_parts;
 mod media;
 mod mesh;
