@@ -15,6 +15,10 @@ pub const MAX_SIDE: u32 = 65_535;
 pub const MAX_THREADS: u32 = 256;
 
 const EXIT_CODES: &str = "\
+Subcommands:
+  raytrace lsp   a language server for editors, over stdin/stdout: mistakes
+                 as you type, hover, completion, definitions (docs/editors.md)
+
 Exit status:
   0    the image was written (or, with --check, the scene is valid)
   1    the scene has an error (syntax, meaning, or a file it names)

@@ -380,3 +380,48 @@ fn a_runaway_loop_is_stopped_by_the_editor_s_budget() {
     assert!(took < Duration::from_secs(20), "{took:?}");
     c.finish();
 }
+
+/// The VS Code grammar highlights every word of the language: a word
+/// added to the language and forgotten there fails here.
+#[test]
+fn the_editor_grammar_knows_every_word_of_the_language() {
+    let root = crate::support::project_root().join("editors/vscode");
+    let read = |p: &str| -> Value {
+        serde_json::from_str(&std::fs::read_to_string(root.join(p)).unwrap())
+            .unwrap_or_else(|e| panic!("{p} is not JSON: {e}"))
+    };
+    let package = read("package.json");
+    let grammar_path = package["contributes"]["grammars"][0]["path"]
+        .as_str()
+        .unwrap();
+    let grammar = read(grammar_path);
+    let text = grammar.to_string();
+    let mut words: Vec<&str> = raytrace::lang::parser::STATEMENT_KEYWORDS.to_vec();
+    words.extend(raytrace::scene::pattern::NAMES);
+    words.extend(raytrace::eval::expr::FUNCTIONS.iter().map(|(f, _)| *f));
+    words.extend([
+        "translate",
+        "rotate",
+        "scale",
+        "shear",
+        "mirror",
+        "matrix",
+        "pi",
+        "clock",
+        "frame",
+    ]);
+    let missing: Vec<&str> = words
+        .into_iter()
+        .filter(|w| {
+            !text.contains(&format!("|{w}|"))
+                && !text.contains(&format!("({w}|"))
+                && !text.contains(&format!("|{w})"))
+                && !text.contains(&format!("\\\\b{w}\\\\b"))
+        })
+        .collect();
+    assert!(missing.is_empty(), "not in {grammar_path}: {missing:?}");
+    let config = read("language-configuration.json");
+    assert_eq!(config["comments"]["lineComment"], "//");
+    assert_eq!(config["comments"]["blockComment"], json!(["/*", "*/"]));
+    assert_eq!(package["activationEvents"][0], "onLanguage:rt");
+}
