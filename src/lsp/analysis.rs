@@ -108,9 +108,11 @@ impl Analysis {
             outline: Vec::new(),
         };
         a.collect(&program.items, None);
+        let by_span: std::collections::HashMap<Span, &crate::eval::TopLevel> =
+            values.iter().map(|v| (v.span, v)).collect();
         for d in &mut a.defs {
             if d.scope.is_none()
-                && let Some(v) = values.iter().find(|v| v.span == d.span)
+                && let Some(v) = by_span.get(&d.span)
             {
                 d.value = v.value.as_ref().map(|v| match v {
                     crate::eval::expr::Value::Items(_) => v.kind(),
@@ -118,7 +120,14 @@ impl Analysis {
                 });
             }
         }
-        a.outline = outline(&a, &program.items, program.root);
+        let lets: std::collections::HashSet<String> = a
+            .defs
+            .iter()
+            // Object values (`let wheel = union { … }`), which are placed by name.
+            .filter(|d| d.kind == DefKind::Let && d.signature.ends_with("{ … }"))
+            .map(|d| d.name.clone())
+            .collect();
+        a.outline = outline(&a, &lets, &program.items, program.root);
         a
     }
 
@@ -303,7 +312,12 @@ fn signature(a: &Analysis, def: &FnDef) -> String {
 }
 
 /// The outline of the document's own statements (not its includes').
-fn outline(a: &Analysis, items: &[Item], file: FileId) -> Vec<Symbol> {
+fn outline(
+    a: &Analysis,
+    lets: &std::collections::HashSet<String>,
+    items: &[Item],
+    file: FileId,
+) -> Vec<Symbol> {
     use lsp_types::SymbolKind as K;
     let mut out = Vec::new();
     let mut i = 0;
@@ -349,7 +363,7 @@ fn outline(a: &Analysis, items: &[Item], file: FileId) -> Vec<Symbol> {
                     Some(h) if crate::scene::is_object(h) => K::OBJECT,
                     _ => K::CONSTANT,
                 };
-                let children = outline(a, body, file)
+                let children = outline(a, lets, body, file)
                     .into_iter()
                     .flat_map(|s| s.children)
                     .collect();
@@ -369,7 +383,7 @@ fn outline(a: &Analysis, items: &[Item], file: FileId) -> Vec<Symbol> {
                 def.name.span,
                 Some(signature(a, def)),
                 match &def.body {
-                    FnBody::Items(b) => outline(a, &b.items, file),
+                    FnBody::Items(b) => outline(a, lets, &b.items, file),
                     FnBody::Expr(_) => Vec::new(),
                 },
             )),
@@ -381,7 +395,7 @@ fn outline(a: &Analysis, items: &[Item], file: FileId) -> Vec<Symbol> {
                 *span,
                 var.span,
                 None,
-                outline(a, &body.items, file),
+                outline(a, lets, &body.items, file),
             )),
             Item::If {
                 then,
@@ -389,9 +403,9 @@ fn outline(a: &Analysis, items: &[Item], file: FileId) -> Vec<Symbol> {
                 otherwise,
                 ..
             } => {
-                let mut children = outline(a, &then.items, file);
+                let mut children = outline(a, lets, &then.items, file);
                 if let Some(o) = otherwise {
-                    children.extend(outline(a, std::slice::from_ref(o.as_ref()), file));
+                    children.extend(outline(a, lets, std::slice::from_ref(o.as_ref()), file));
                 }
                 out.push(sym(
                     "if".into(),
@@ -402,7 +416,7 @@ fn outline(a: &Analysis, items: &[Item], file: FileId) -> Vec<Symbol> {
                     children,
                 ));
             }
-            Item::Block(b) => out.extend(outline(a, &b.items, file)),
+            Item::Block(b) => out.extend(outline(a, lets, &b.items, file)),
             _ => {
                 let Some(word) = item.as_name() else { continue };
                 let w = word.node;
@@ -430,12 +444,12 @@ fn outline(a: &Analysis, items: &[Item], file: FileId) -> Vec<Symbol> {
                     "render" => K::PACKAGE,
                     "material" => K::STRUCT,
                     _ if crate::scene::is_object(w) => K::OBJECT,
-                    _ if a.defs.iter().any(|d| d.name == w && d.kind == DefKind::Let) => K::OBJECT,
+                    _ if lets.contains(w) => K::OBJECT,
                     _ => continue,
                 };
                 if let Some(Item::Block(b)) = items.get(j) {
                     end = end.to(b.span);
-                    children = outline(a, &b.items, file)
+                    children = outline(a, lets, &b.items, file)
                         .into_iter()
                         .filter(|s| s.kind == K::OBJECT || s.kind == K::NAMESPACE)
                         .collect();
@@ -443,7 +457,7 @@ fn outline(a: &Analysis, items: &[Item], file: FileId) -> Vec<Symbol> {
                 } else if !matches!(w, "ambient") {
                     // A name alone is a use (`material gold` in a block), or
                     // an object value placed as it is.
-                    if !(kind == K::OBJECT && a.defs.iter().any(|d| d.name == w)) {
+                    if !(kind == K::OBJECT && lets.contains(w)) {
                         continue;
                     }
                 }
