@@ -202,3 +202,88 @@ fn related(a: &Analysis, span: Span, note: &str) -> Option<DiagnosticRelatedInfo
         message: note.to_string(),
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::sync::atomic::Ordering;
+
+    fn only(r: &Report) -> &Vec<Diagnostic> {
+        assert_eq!(r.diagnostics.len(), 1, "{:?}", r.diagnostics.keys());
+        r.diagnostics.values().next().unwrap()
+    }
+
+    #[test]
+    fn every_mistake_of_the_build_is_reported_in_file_order() {
+        let t = "box { materail red }\nsphere { radus 1  centre <1, 2> }\n";
+        let r = check(Path::new("/nonexistent/a.rt"), t, None);
+        let d = only(&r);
+        let firsts: Vec<&str> = d
+            .iter()
+            .map(|d| d.message.lines().next().unwrap())
+            .collect();
+        assert_eq!(firsts.len(), 3, "{firsts:?}");
+        assert!(
+            firsts[0].contains("`materail`") && firsts[1].contains("`radus`"),
+            "{firsts:?}"
+        );
+        assert!(d.windows(2).all(|w| w[0].range.start <= w[1].range.start));
+        assert!(
+            d[0].message.contains("help: did you mean `material`?"),
+            "{}",
+            d[0].message
+        );
+    }
+
+    #[test]
+    fn warnings_are_warnings() {
+        // An unbounded implicit surface renders, with a warning.
+        let t = "implicit \"x + y\" { }\n";
+        let r = check(Path::new("/nonexistent/w.rt"), t, None);
+        let d = only(&r);
+        assert!(!d.is_empty());
+        assert!(
+            d.iter()
+                .all(|d| d.severity == Some(DiagnosticSeverity::WARNING)),
+            "{d:?}"
+        );
+    }
+
+    #[test]
+    fn the_budget_turns_a_runaway_loop_into_a_note() {
+        let t = "for i in 0..100000 { for j in 0..100000 { let a = i } }\n";
+        let r = check(Path::new("/nonexistent/l.rt"), t, None);
+        let d = only(&r);
+        assert_eq!(d.len(), 1, "{d:?}");
+        assert_eq!(d[0].severity, Some(DiagnosticSeverity::INFORMATION));
+        assert!(
+            d[0].message
+                .contains("`raytrace --check` checks the whole scene")
+        );
+    }
+
+    #[test]
+    fn a_cancelled_check_stops_early_and_quietly() {
+        let t = "for i in 0..100000 { for j in 0..100000 { let a = i } }\n";
+        let cancel = Arc::new(AtomicBool::new(false));
+        cancel.store(true, Ordering::Relaxed);
+        let start = std::time::Instant::now();
+        let r = check(Path::new("/nonexistent/l.rt"), t, Some(cancel));
+        assert!(only(&r).is_empty(), "a cancelled check reports nothing");
+        // The uncancelled check runs 20 million steps; this one, a few thousand.
+        assert!(start.elapsed() < std::time::Duration::from_millis(500));
+    }
+
+    #[test]
+    fn an_unreadable_include_is_reported_at_its_string() {
+        let t = "sphere { }\ninclude \"missing.rt\"\n";
+        let r = check(Path::new("/nonexistent/i.rt"), t, None);
+        let d = only(&r);
+        assert_eq!(d.len(), 1);
+        assert_eq!(d[0].range.start, lsp_types::Position::new(1, 8));
+        assert!(
+            d[0].message
+                .starts_with("cannot find the included file `missing.rt`")
+        );
+    }
+}

@@ -33,7 +33,32 @@ fn item(label: &str, kind: CompletionItemKind, detail: Option<String>) -> Comple
 /// The completions at byte `at` of `text`.
 pub fn complete(text: &str, at: usize, a: Option<&Analysis>) -> Vec<CompletionItem> {
     let toks = context::tokens(text);
-    // Inside a comment or a string (an include path): nothing.
+    // In an include's string: the standard library's files.
+    let holds = |s: usize, e: usize| s < at && (at < e || (at == e && e == text.len()));
+    let in_include = toks.windows(2).find(|w| {
+        w[0].0 == context::Tok::Word("include")
+            && w[1].0 == context::Tok::Str
+            && holds(w[1].1, w[1].2)
+    });
+    if let Some(w) = in_include {
+        // The whole path so far is replaced (a path is no word to an editor).
+        let lines = super::positions::LineIndex::new(text);
+        let range = lines.range(text, w[1].1 + 1, at);
+        return crate::stdlib::include_names()
+            .map(|n| CompletionItem {
+                text_edit: Some(lsp_types::CompletionTextEdit::Edit(lsp_types::TextEdit {
+                    range,
+                    new_text: n.clone(),
+                })),
+                ..item(
+                    &n,
+                    CompletionItemKind::FILE,
+                    Some("the standard library".into()),
+                )
+            })
+            .collect();
+    }
+    // Inside a comment or another string: nothing.
     if inside_comment_or_string(text, &toks, at) {
         return Vec::new();
     }
@@ -259,5 +284,7 @@ mod tests {
         let l = labels("light { colour | }", None);
         assert!(l.contains(&"skyblue".into()));
         assert!(labels("// sphere { |", None).is_empty());
+        assert!(labels("include \"std/m|", None).contains(&"std/metals.rt".into()));
+        assert!(labels("include \"std/metals.rt\" |", None).contains(&"camera".into()));
     }
 }
