@@ -13,7 +13,7 @@ use lsp_types::{Diagnostic, DiagnosticRelatedInformation, DiagnosticSeverity, Lo
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
-use std::sync::atomic::AtomicBool;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// The evaluation budget of one check: far below the command line's, so
 /// that a runaway loop costs an editor a fraction of a second. A scene
@@ -33,14 +33,22 @@ pub struct Report {
     pub diagnostics: BTreeMap<PathBuf, Vec<Diagnostic>>,
     /// `None` when not even the document parsed.
     pub analysis: Option<Arc<Analysis>>,
+    /// Seconds spent parsing, evaluating and building, and analysing.
+    pub times: [f64; 3],
 }
 
 /// Checks `text` as the scene file at `path` (includes are read from disk,
 /// relative to it). `cancel` stops the evaluation early: a newer version of
 /// the document has arrived and this report will not be used.
 pub fn check(path: &Path, text: &str, cancel: Option<Arc<AtomicBool>>) -> Report {
+    let clock = std::time::Instant::now();
     let (program, load_errors) = crate::lang::load_text_all(path, text.to_string());
-    let (mut errors, warnings, values) = if load_errors.is_empty() {
+    let parsed = clock.elapsed().as_secs_f64();
+    // A newer text may have come while this one was parsed.
+    let cancelled = cancel.as_ref().is_some_and(|c| c.load(Ordering::Relaxed));
+    let (mut errors, warnings, values) = if cancelled {
+        (Vec::new(), Vec::new(), Vec::new())
+    } else if load_errors.is_empty() {
         let options = Options {
             limits: LIMITS,
             cancel,
@@ -54,6 +62,7 @@ pub fn check(path: &Path, text: &str, cancel: Option<Arc<AtomicBool>>) -> Report
     // As the command line: in file order, each mistake once.
     errors.sort_by_key(|e| (e.span.file, e.span.start));
     errors.dedup_by(|a, b| a.span == b.span && a.message == b.message);
+    let built = clock.elapsed().as_secs_f64();
     let root_parsed = !program.items.is_empty() || text.trim().is_empty() || errors.is_empty();
     let analysis = Arc::new(Analysis::new(&program, &values));
     let mut diagnostics: BTreeMap<PathBuf, Vec<Diagnostic>> = BTreeMap::new();
@@ -113,9 +122,11 @@ pub fn check(path: &Path, text: &str, cancel: Option<Arc<AtomicBool>>) -> Report
             .or_default()
             .push(d);
     }
+    let done = clock.elapsed().as_secs_f64();
     Report {
         diagnostics,
         analysis: root_parsed.then_some(analysis),
+        times: [parsed, built - parsed, done - built],
     }
 }
 
@@ -206,7 +217,6 @@ fn related(a: &Analysis, span: Span, note: &str) -> Option<DiagnosticRelatedInfo
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::sync::atomic::Ordering;
 
     fn only(r: &Report) -> &Vec<Diagnostic> {
         assert_eq!(r.diagnostics.len(), 1, "{:?}", r.diagnostics.keys());

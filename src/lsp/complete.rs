@@ -32,9 +32,11 @@ fn item(label: &str, kind: CompletionItemKind, detail: Option<String>) -> Comple
 
 /// The completions at byte `at` of `text`.
 pub fn complete(text: &str, at: usize, a: Option<&Analysis>) -> Vec<CompletionItem> {
-    let toks = context::tokens(text);
+    // What comes after the cursor's line never changes what may be written.
+    let line_end = text[at..].find('\n').map_or(text.len(), |i| at + i);
+    let toks = context::tokens(&text[..line_end]);
     // In an include's string: the standard library's files.
-    let holds = |s: usize, e: usize| s < at && (at < e || (at == e && e == text.len()));
+    let holds = |s: usize, e: usize| s < at && (at < e || (at == e && e == line_end));
     let in_include = toks.windows(2).find(|w| {
         w[0].0 == context::Tok::Word("include")
             && w[1].0 == context::Tok::Str
@@ -285,6 +287,7 @@ mod tests {
         assert!(l.contains(&"skyblue".into()));
         assert!(labels("// sphere { |", None).is_empty());
         assert!(labels("include \"std/m|", None).contains(&"std/metals.rt".into()));
+        assert!(labels("include \"std/m|\nsphere { }", None).contains(&"std/metals.rt".into()));
         assert!(labels("include \"std/metals.rt\" |", None).contains(&"camera".into()));
     }
 }

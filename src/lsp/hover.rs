@@ -13,7 +13,8 @@ use super::docs;
 /// word's range.
 pub fn hover(text: &str, at: usize, a: Option<&Analysis>) -> Option<(String, usize, usize)> {
     let (start, end, w) = context::word_at(text, at)?;
-    let toks = context::tokens(text);
+    // What comes after the word never changes what it is.
+    let toks = context::tokens(&text[..end]);
     // Inside a comment or a string there is nothing to say.
     if !toks
         .iter()
