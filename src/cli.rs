@@ -31,7 +31,10 @@ Other commands:
   raytrace merge TILES... -o FULL [--average]
        put tiles from --tile or --region back together (see docs/farm.md)
   raytrace fmt [--check] FILE...
-       lay out .rt files canonically, in place (`-` for stdin to stdout)";
+       lay out .rt files canonically, in place (`-` for stdin to stdout)
+  raytrace lsp
+       a language server for editors, over stdin/stdout: mistakes as you
+       type, hover, completion, definitions (docs/editors.md)";
 
 /// Render a .rt scene to an image.
 #[derive(Parser, Debug, Clone)]
@@ -213,6 +216,7 @@ impl Args {
                 depth: self.max_recursion,
                 steps: self.max_steps,
             },
+            cancel: None,
         })
     }
 }

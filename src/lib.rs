@@ -20,6 +20,7 @@ pub mod geometry;
 pub mod guard;
 pub mod implicit;
 pub mod lang;
+pub mod lsp;
 pub mod output;
 #[cfg(feature = "preview")]
 pub mod preview;

@@ -6,6 +6,7 @@ fn main() -> ExitCode {
     match std::env::args().nth(1).as_deref() {
         Some("merge") => raytrace::farm::merge_main(),
         Some("fmt") => raytrace::fmt::main(),
+        Some("lsp") => raytrace::lsp::main(),
         _ => render(),
     }
 }

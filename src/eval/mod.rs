@@ -69,6 +69,9 @@ pub struct Options {
     /// `frame` (0 for a still).
     pub frame: f64,
     pub limits: Limits,
+    /// Set from another thread to stop the evaluation early, quietly (an
+    /// editor's newer text makes this check useless).
+    pub cancel: Option<Arc<std::sync::atomic::AtomicBool>>,
 }
 
 /// The evaluated program.
@@ -103,8 +106,29 @@ pub fn evaluate_in_parts(
     program: &Program,
     transfer: Transfer,
     options: &Options,
-    mut sink: impl FnMut(Vec<Item>, &[String]),
+    sink: impl FnMut(Vec<Item>, &[String]),
 ) -> Vec<Error> {
+    evaluate_in_parts_bound(program, transfer, options, sink).0
+}
+
+/// A name bound at the top level of a program, with its value at the end
+/// of the evaluation (`None` when its definition failed); for an editor's
+/// hover.
+#[derive(Clone, Debug)]
+pub struct TopLevel {
+    pub name: String,
+    pub span: Span,
+    pub value: Option<Value>,
+}
+
+/// As [`evaluate_in_parts`], also giving the top-level `let`s and their
+/// values (functions are not values and are left out).
+pub fn evaluate_in_parts_bound(
+    program: &Program,
+    transfer: Transfer,
+    options: &Options,
+    mut sink: impl FnMut(Vec<Item>, &[String]),
+) -> (Vec<Error>, Vec<TopLevel>) {
     let ex = Expander {
         program,
         transfer,
@@ -205,7 +229,20 @@ pub fn evaluate_in_parts(
             );
         }
     }
-    errors
+    let bound = root
+        .vars
+        .borrow()
+        .iter()
+        .filter_map(|(name, b, span)| match (b, span) {
+            (Binding::Value(v), Some(span)) => Some(TopLevel {
+                name: name.clone(),
+                span: *span,
+                value: v.clone(),
+            }),
+            _ => None,
+        })
+        .collect();
+    (errors, bound)
 }
 
 /// Parses and evaluates the value of `-D NAME=VALUE` (a number, vector,
@@ -331,6 +368,14 @@ impl<'p> Expander<'p> {
 
     fn step(&self, span: Span, errors: &mut Vec<Error>) -> bool {
         if self.stopped.get() {
+            return false;
+        }
+        // Looked at once every 4096 steps: the load is not free.
+        if self.steps.get().is_multiple_of(4096)
+            && let Some(c) = &self.options.cancel
+            && c.load(std::sync::atomic::Ordering::Relaxed)
+        {
+            self.stopped.set(true);
             return false;
         }
         let limit = self.options.limits.steps;

@@ -64,6 +64,18 @@ pub fn load(path: &Path) -> Result<Program, Problems> {
 /// As [`load`], with the root file's text given (includes are still read
 /// relative to `path`'s folder).
 pub fn load_text(path: &Path, text: String) -> Result<Program, Problems> {
+    let (program, errors) = load_text_all(path, text);
+    if errors.is_empty() {
+        Ok(program)
+    } else {
+        Err(program.problems(errors))
+    }
+}
+
+/// As [`load_text`], giving the program (whatever of it parsed) with the
+/// errors as they are, for a caller that shows them itself (the language
+/// server publishes each in its own file).
+pub fn load_text_all(path: &Path, text: String) -> (Program, Vec<Error>) {
     let mut loader = Loader {
         sources: Sources::default(),
         errors: Vec::new(),
@@ -79,11 +91,7 @@ pub fn load_text(path: &Path, text: String) -> Result<Program, Problems> {
         root,
         items,
     };
-    if loader.errors.is_empty() {
-        Ok(program)
-    } else {
-        Err(program.problems(loader.errors))
-    }
+    (program, loader.errors)
 }
 
 struct Loader {

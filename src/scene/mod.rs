@@ -10,7 +10,9 @@ mod material;
 pub mod pattern;
 pub mod texture;
 
-pub use build::{build, build_with, build_with_warnings, is_object};
+pub use build::{
+    Checked, ParamInfo, block_parameters, build, build_with, build_with_warnings, check, is_object,
+};
 pub use camera::{Camera, PixelRays, Projection, ThinLens};
 pub use colour::{Colour, Transfer};
 pub use light::{AreaLight, Environment, Light, LightKind, LightSurface, Occlusion};

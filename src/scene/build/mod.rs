@@ -13,6 +13,7 @@
 //! they are defined; using one earlier says where it is defined.
 
 mod area;
+mod catalogue;
 mod lights;
 mod materials;
 mod objects;
@@ -46,6 +47,7 @@ pub const MAX_IMAGE_SIDE: u32 = crate::cli::MAX_SIDE;
 /// that is stored in 8 or 16 bits unless every surface is a perfect mirror.
 pub const MAX_DEPTH: u32 = 64;
 
+pub use catalogue::{ParamInfo, block_parameters};
 pub use objects::is_object;
 
 /// Evaluates and builds the scene, reporting every mistake of the program
@@ -66,16 +68,45 @@ pub fn build_with(
     program: &Program,
     options: &crate::eval::Options,
 ) -> Result<(Scene, Vec<String>), Problems> {
+    let checked = check(program, options);
+    if checked.errors.is_empty() {
+        let warnings = checked
+            .warnings
+            .iter()
+            .map(|(span, text)| format!("{}: {text}", program.sources.location(*span)))
+            .collect();
+        Ok((checked.scene, warnings))
+    } else {
+        Err(program.problems(checked.errors))
+    }
+}
+
+/// Everything building a program finds, for a caller that shows it itself
+/// (the language server).
+pub struct Checked {
+    /// The scene as far as it could be built.
+    pub scene: Scene,
+    /// Every mistake, each reported once.
+    pub errors: Vec<Error>,
+    /// What renders but perhaps not as meant, at its place.
+    pub warnings: Vec<(Span, String)>,
+    /// The top-level `let`s and their values.
+    pub bound: Vec<crate::eval::TopLevel>,
+}
+
+/// Evaluates and builds, keeping the mistakes and warnings as they are.
+pub fn check(program: &Program, options: &crate::eval::Options) -> Checked {
     let transfer = find_transfer(&program.items);
     let mut b = Builder::new(program, transfer);
     // Each part is built as soon as it is evaluated, so the evaluated
     // items of a long loop never all exist at once.
-    let eval_errors = crate::eval::evaluate_in_parts(program, transfer, options, |items, known| {
-        if b.env.known.len() != known.len() {
-            b.env.known = known.to_vec();
-        }
-        b.top_level(&items);
-    });
+    let (eval_errors, bound) =
+        crate::eval::evaluate_in_parts_bound(program, transfer, options, |items, known| {
+            if b.env.known.len() != known.len() {
+                b.env.known = known.to_vec();
+            }
+            b.top_level(&items);
+        });
     b.errors.extend(eval_errors);
     // A mistake inside a loop body is one mistake: keep its first report.
     let mut seen = std::collections::HashSet::new();
@@ -88,10 +119,11 @@ pub fn build_with(
             b.scene.settings.background = env.colour;
         }
     }
-    if b.errors.is_empty() {
-        Ok((b.scene, b.warnings))
-    } else {
-        Err(program.problems(b.errors))
+    Checked {
+        scene: b.scene,
+        errors: b.errors,
+        warnings: b.warnings,
+        bound,
     }
 }
 
@@ -99,7 +131,7 @@ struct Builder<'p> {
     program: &'p Program,
     env: Env,
     errors: Vec<Error>,
-    warnings: Vec<String>,
+    warnings: Vec<(Span, String)>,
     scene: Scene,
     /// Named materials declared so far.
     materials: HashMap<String, (super::MaterialId, Span)>,
@@ -217,8 +249,7 @@ impl<'p> Builder<'p> {
     }
 
     fn warn(&mut self, span: Span, text: impl std::fmt::Display) {
-        let place = self.program.sources.location(span);
-        self.warnings.push(format!("{place}: {text}"));
+        self.warnings.push((span, text.to_string()));
     }
 
     // ---- top level ----

@@ -69,7 +69,7 @@ const NUM: &str = "a number";
 const MAT: &str = "a material";
 const LIGHT_SAMPLES: &str = "a whole number: n × n shadow points per shading point (area lights)";
 
-fn schema(kind: &str) -> Schema {
+pub(super) fn schema(kind: &str) -> Schema {
     let own: &'static [Spec] = match kind {
         "sphere" => {
             const {

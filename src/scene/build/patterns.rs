@@ -109,8 +109,8 @@ const IMAGE: Schema = schema!(
     spec("flip_v", 0, "nothing"),
 );
 
-const NORMALS: &[&str] = &["bumps", "ripples", "waves"];
-const NORMAL: Schema = Schema {
+pub(super) const NORMALS: &[&str] = &["bumps", "ripples", "waves"];
+pub(super) const NORMAL: Schema = Schema {
     own: &[
         spec("amount", 1, "a number, 0 or more (how far it tilts)"),
         SCALE,
@@ -122,7 +122,7 @@ const NORMAL: Schema = Schema {
     children: false,
 };
 
-fn schema_of(kind: &str) -> &'static Schema {
+pub(super) fn schema_of(kind: &str) -> &'static Schema {
     match kind {
         "checker" => &CHECKER,
         "checker3d" => &CHECKER3D,
