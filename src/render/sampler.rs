@@ -366,15 +366,41 @@ mod tests {
         }
     }
 
+    /// The inverse of [`mix`], step by step: x ^ (x >> s) is undone by
+    /// repeating z = y ^ (z >> s), a product by an odd constant by the
+    /// product with its inverse mod 2⁶⁴ (Newton: x ← x(2 − ax)).
+    fn unmix(mut z: u64) -> u64 {
+        let unshift = |y: u64, s: u32| {
+            let mut z = y;
+            for _ in 0..64 / s + 1 {
+                z = y ^ (z >> s);
+            }
+            z
+        };
+        let inverse = |a: u64| {
+            let mut x = a;
+            for _ in 0..6 {
+                x = x.wrapping_mul(2u64.wrapping_sub(a.wrapping_mul(x)));
+            }
+            assert_eq!(a.wrapping_mul(x), 1);
+            x
+        };
+        z = unshift(z, 31);
+        z = unshift(z.wrapping_mul(inverse(0x94d0_49bb_1331_11eb)), 27);
+        unshift(z.wrapping_mul(inverse(0xbf58_476d_1ce4_e5b9)), 30)
+    }
+
     #[test]
     fn the_64_bit_mix_is_a_bijection_that_spreads_every_bit() {
-        // SplitMix64's finaliser: invertible, so distinct inputs never meet,
-        // and one flipped input bit flips about half the output bits.
-        let xs: Vec<u64> = (0..4096u64).map(mix).collect();
-        let mut sorted = xs.clone();
-        sorted.sort();
-        sorted.dedup();
-        assert_eq!(sorted.len(), xs.len());
+        // SplitMix64's finaliser: invertible, so distinct inputs never meet
+        // (the pixel, sample and dimension packed into one word stay
+        // apart), and one flipped input bit flips about half the output
+        // bits.
+        for i in 0..4096u64 {
+            for x in [i, i << 40, !i, i.wrapping_mul(0x9e37_79b9_7f4a_7c15)] {
+                assert_eq!(unmix(mix(x)), x, "{x:#x}");
+            }
+        }
         assert_eq!(mix(0), 0);
         let mut flips = 0u64;
         let mut count = 0u64;
@@ -387,6 +413,53 @@ mod tests {
         }
         let mean = flips as f64 / count as f64;
         assert!((mean - 32.0).abs() < 0.5, "{mean} bits flip of 64");
+    }
+
+    #[test]
+    fn every_bit_of_every_input_changes_the_numbers() {
+        // A hash that dropped bits would give two pixels (or seeds,
+        // samples, dimensions) the same noise.
+        let (p, sample, dim, seed) = (
+            Pixel {
+                x: 0x1234_5678,
+                y: 0x0bad_cafe,
+            },
+            0x55aa_33cc,
+            0x0f0f_1234,
+            0x0123_4567_89ab_cdef,
+        );
+        let u = uniform(p, sample, dim, seed);
+        let v = uniform_pair(p, sample, dim, seed);
+        let mut variants = Vec::new();
+        for b in 0..32 {
+            variants.push((
+                Pixel {
+                    x: p.x ^ (1 << b),
+                    ..p
+                },
+                sample,
+                dim,
+                seed,
+            ));
+            variants.push((
+                Pixel {
+                    y: p.y ^ (1 << b),
+                    ..p
+                },
+                sample,
+                dim,
+                seed,
+            ));
+            variants.push((p, sample ^ (1 << b), dim, seed));
+            variants.push((p, sample, dim ^ (1 << b), seed));
+        }
+        for b in 0..64 {
+            variants.push((p, sample, dim, seed ^ (1 << b)));
+        }
+        for (q, s, d, k) in variants {
+            assert_ne!(u, uniform(q, s, d, k), "{q:?} {s:#x} {d:#x} {k:#x}");
+            assert_ne!(v, uniform_pair(q, s, d, k), "{q:?} {s:#x} {d:#x} {k:#x}");
+        }
     }
 
     #[test]
@@ -419,6 +492,31 @@ mod tests {
         for (p, c) in counts {
             assert!((c as f64 - 1000.0).abs() < 150.0, "{p:?}: {c}");
         }
+    }
+
+    #[test]
+    fn permutations_are_uniform_even_over_keys_of_one_bit() {
+        // Keys one bit away from 0 or from all ones: a key folded into the
+        // hash by | or & instead of ^ loses most of them. χ² over the 6
+        // orders of 3 (5 degrees of freedom; 20.5 is the 0.1% point).
+        let mut counts = std::collections::HashMap::new();
+        let mut keys = Vec::new();
+        for b in 0..64 {
+            keys.push(1u64 << b);
+            keys.push(!(1u64 << b));
+        }
+        for &key in &keys {
+            let mut p = [0u16; 3];
+            permutation(&mut p, key);
+            *counts.entry(p).or_insert(0u32) += 1;
+        }
+        let e = keys.len() as f64 / 6.0;
+        let chi2 = counts
+            .values()
+            .map(|&c| (c as f64 - e).powi(2) / e)
+            .sum::<f64>()
+            + (6 - counts.len()) as f64 * e;
+        assert!(chi2 < 20.5, "χ² = {chi2}: {counts:?}");
     }
 
     #[test]
@@ -499,6 +597,14 @@ mod tests {
             }
         }
         assert_uniform_pairs(&offsets, "jitter in a cell");
+        // Each cell of one pixel has its own jitter (its own sample's
+        // numbers), not a copy of another cell's.
+        for px in offsets.chunks((n * n) as usize) {
+            let mut xs: Vec<u64> = px.iter().map(|q| q.0.to_bits()).collect();
+            xs.sort();
+            xs.dedup();
+            assert_eq!(xs.len(), px.len());
+        }
     }
 
     #[test]

@@ -9,6 +9,7 @@ mod examples;
 mod geometry;
 mod golden;
 mod hostile;
+mod integrator;
 mod lang;
 mod looks;
 mod material_parts;
