@@ -643,6 +643,27 @@ mod tests {
         assert_ne!(a, cells(pattern(2, 0, 1)));
         assert_ne!(a, cells(pattern(1, 2, 1)));
         assert_ne!(a, cells(pattern(1, 0, 2)));
+        // Every bit of the seed, the pixel and the dimension counts.
+        let at = |x: u32, y: u32, dim: u32, seed: u64| {
+            let mut out = Vec::new();
+            PixelSampler {
+                kind: SamplerKind::MultiJittered,
+                n,
+                seed,
+            }
+            .pattern(Pixel { x, y }, dim, &mut out);
+            cells(out)
+        };
+        let (x, y, dim, seed) = (0x0123_4567, 0x0765_4321, 0x00ab_cdef, 0x0f1e_2d3c_4b5a_6978);
+        let base = at(x, y, dim, seed);
+        for b in 0..32 {
+            assert_ne!(base, at(x ^ (1 << b), y, dim, seed), "x bit {b}");
+            assert_ne!(base, at(x, y ^ (1 << b), dim, seed), "y bit {b}");
+            assert_ne!(base, at(x, y, dim ^ (1 << b), seed), "dim bit {b}");
+        }
+        for b in 0..64 {
+            assert_ne!(base, at(x, y, dim, seed ^ (1 << b)), "seed bit {b}");
+        }
         // The order of samples is shuffled, not the grid's: sample 0 is
         // not always in the first cell.
         let firsts: std::collections::HashSet<(u32, u32)> = (0..50)
