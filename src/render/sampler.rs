@@ -676,6 +676,30 @@ mod tests {
     }
 
     #[test]
+    fn multijittered_sample_orders_do_not_repeat_across_pixels() {
+        // Which cell sample k lands in is a permutation of 16 per pixel
+        // (16! of them): 3000 pixels must not share one. (A key folded in
+        // with `&` by a fixed mask leaves only 2¹⁸ orders, and some
+        // pixels would.)
+        let n = 4;
+        let mut orders = std::collections::HashSet::new();
+        for x in 0..3000 {
+            let mut out = Vec::new();
+            PixelSampler {
+                kind: SamplerKind::MultiJittered,
+                n,
+                seed: 0,
+            }
+            .pattern(Pixel { x, y: x / 7 }, 0, &mut out);
+            let cells: Vec<u32> = out
+                .iter()
+                .map(|&(x, y)| (y * n as f64) as u32 * n + (x * n as f64) as u32)
+                .collect();
+            assert!(orders.insert(cells), "pixel {x} repeats an order");
+        }
+    }
+
+    #[test]
     fn a_stream_draws_the_path_dimensions_in_order() {
         let p = Pixel { x: 4, y: 2 };
         let mut s = SampleStream::new(p, 6, 99);
