@@ -105,3 +105,134 @@ fn a_floor_sunk_in_glass_is_seen_through_fresnel_and_one_over_eta_squared() {
         }
     }
 }
+
+/// The project's unit icosphere (642 vertices), by absolute path.
+fn icosphere() -> String {
+    project_root()
+        .join("examples/meshes/icosphere.ply")
+        .display()
+        .to_string()
+}
+
+/// Smooth shading turns the interpolated normal to the viewer's side of
+/// the surface, as the geometric normal is: seen from inside, a smooth
+/// sphere lit from its centre is lit everywhere (n·l ≈ 1), not black.
+#[test]
+fn a_smooth_mesh_seen_from_inside_is_lit_from_its_centre() {
+    let _watchdog = crate::watchdog::start();
+    let film = render_src(&format!(
+        "
+camera {{ position <0, 0, 0>  look_at <0, 0, -1>  up <0, 1, 0>  fov 60 }}
+render {{ width 12  height 12  gamma linear }}
+light {{ position <0, 0, 0> }}
+mesh \"{}\" {{ smooth  material {{ colour white  ambient 0 }} }}
+",
+        icosphere()
+    ));
+    for (i, p) in film.pixels.iter().enumerate() {
+        assert!(p[1] > 0.99 && p[1] <= 1.0 + 1e-6, "pixel {i}: {p:?}");
+    }
+}
+
+/// Under a parallel light (no falloff) a flat face has one n·l: pixels
+/// on one face are equal. Smooth shading varies across every face, and
+/// agrees with the true sphere it approximates.
+#[test]
+fn smooth_shading_varies_across_faces_and_follows_the_sphere() {
+    let _watchdog = crate::watchdog::start();
+    let scene = |shape: &str| {
+        render_src(&format!(
+            "
+camera {{ position <0, 0, 6>  look_at <0, 0, 0>  up <0, 1, 0>  fov 22 }}
+render {{ width 80  height 80  gamma linear }}
+light {{ direction <-1, -0.3, -0.2> }}
+{shape}
+"
+        ))
+    };
+    let mat = "material { colour white  ambient 0 }";
+    let sphere = scene(&format!("sphere {{ radius 1  {mat} }}"));
+    let equal_neighbours = |f: &Film| {
+        let (mut equal, mut lit) = (0, 0);
+        for y in 0..f.height {
+            for x in 0..f.width - 1 {
+                let (a, b) = (f.get(x, y)[1], f.get(x + 1, y)[1]);
+                if a > 0.05
+                    && b > 0.05
+                    && sphere.get(x, y)[1] > 0.05
+                    && sphere.get(x + 1, y)[1] > 0.05
+                {
+                    lit += 1;
+                    equal += (a == b) as u32;
+                }
+            }
+        }
+        assert!(lit > 1000, "{lit} lit pairs");
+        equal as f64 / lit as f64
+    };
+    let smooth = scene(&format!("mesh \"{}\" {{ smooth  {mat} }}", icosphere()));
+    let flat = scene(&format!("mesh \"{}\" {{ flat  {mat} }}", icosphere()));
+    assert!(
+        equal_neighbours(&flat) > 0.4,
+        "flat: {}",
+        equal_neighbours(&flat)
+    );
+    assert!(
+        equal_neighbours(&smooth) < 0.05,
+        "smooth: {}",
+        equal_neighbours(&smooth)
+    );
+    // Inside the silhouette (away from its edge), the smooth mesh shows
+    // the sphere's n·l to within the facets' small error.
+    let mut worst = 0.0f32;
+    for y in 0..80 {
+        for x in 0..80 {
+            let (dx, dy) = (x as f32 - 39.5, y as f32 - 39.5);
+            if (dx * dx + dy * dy).sqrt() < 25.0 {
+                worst = worst.max((smooth.get(x, y)[1] - sphere.get(x, y)[1]).abs());
+            }
+        }
+    }
+    assert!(worst < 0.02, "smooth mesh vs sphere: {worst}");
+}
+
+/// A sky without an image lights the scene but a `background` given in
+/// `render` is what camera rays that miss see.
+#[test]
+fn a_given_background_hides_a_plain_sky_from_the_camera() {
+    let _watchdog = crate::watchdog::start();
+    let film = render_src(
+        "
+camera { position <0, 0, 5>  look_at <0, 0, 0>  fov 40 }
+render { width 8  height 8  gamma linear  background rgb(0, 0, 1) }
+environment { colour rgb(1, 0.5, 0)  intensity 0.5 }
+",
+    );
+    for p in &film.pixels {
+        assert_eq!(*p, [0.0, 0.0, 1.0]);
+    }
+    // Nor does a picture sky show where a background is given.
+    let globe = project_root().join("examples/images/globe.png");
+    let film = render_src(&format!(
+        "
+camera {{ position <0, 0, 5>  look_at <0, 0, 0>  fov 40 }}
+render {{ width 8  height 8  gamma linear  background rgb(0, 0, 1) }}
+environment {{ image \"{}\" }}
+",
+        globe.display()
+    ));
+    for p in &film.pixels {
+        assert_eq!(*p, [0.0, 0.0, 1.0]);
+    }
+    // Without a background the misses see the sky's colour × intensity.
+    let film = render_src(
+        "
+camera { position <0, 0, 5>  look_at <0, 0, 0>  fov 40 }
+render { width 8  height 8  gamma linear }
+environment { colour rgb(1, 0.5, 0)  intensity 0.5 }
+",
+    );
+    for p in &film.pixels {
+        assert_eq!(*p, [0.5, 0.25, 0.0]);
+    }
+}
