@@ -236,3 +236,40 @@ environment { colour rgb(1, 0.5, 0)  intensity 0.5 }
         assert_eq!(*p, [0.5, 0.25, 0.0]);
     }
 }
+
+/// An area light with its own k × k grid (`samples k`) lights a point
+/// with the mean over the grid's cell centres y of
+/// L (n_y·(−l)) (n·l) / |x − y|² × area: for a 2 × 2 lamp 4 above the
+/// floor, facing down, each centre gives L·(A/k²)·16/r⁴. A wall hiding
+/// the lamp's half x < 0 from the floor point under its middle hides
+/// exactly half the grid's points: half the light.
+#[test]
+fn an_area_lights_own_grid_is_its_cell_centres_averaged() {
+    let _watchdog = crate::watchdog::start();
+    let (l, k) = (10.0f64, 4u32);
+    let floor_point = |wall: &str| {
+        let film = render_src(&format!(
+            "
+camera {{ position <0.6, 0.3, 0>  look_at <0, 0, 0>  fov 1 }}
+render {{ width 3  height 3  gamma linear }}
+rectangle {{ bottom_left <-1, 4, -1>  top_left <-1, 4, 1>  bottom_right <1, 4, -1>
+  material {{ emit white  intensity {l} }}  samples {k} }}
+plane {{ normal <0, 1, 0>  material {{ colour white  ambient 0 }} }}
+{wall}
+"
+        ));
+        film.get(1, 1)[1] as f64
+    };
+    let centre = |i: u32| -1.0 + 2.0 * (i as f64 + 0.5) / k as f64;
+    let mut want = 0.0;
+    for i in 0..k {
+        for j in 0..k {
+            let r2 = centre(i).powi(2) + 16.0 + centre(j).powi(2);
+            want += l * (4.0 / (k * k) as f64) * 16.0 / (r2 * r2);
+        }
+    }
+    let open = floor_point("");
+    assert!((open - want).abs() < 1e-5 * want, "{open} vs {want}");
+    let half = floor_point("box { min <-5, 1, -5>  max <0, 3, 5> }");
+    assert!((half / open - 0.5).abs() < 1e-5, "{half} of {open}");
+}
