@@ -64,6 +64,43 @@ fn ray_counts_are_one_camera_one_mirror_and_one_shadow_ray_per_pixel() {
         "environment { colour white  intensity 0.1  samples 3 }",
     ));
     assert_eq!(sky.rays.shadow, pixels + 3 * pixels);
+    // A surface with no diffuse part gathers no sky (its ambient part
+    // still asks for the light, which it then does not use: a light sample
+    // is a shadow ray whatever the weights; the sky's are not).
+    let (_, sky) = render_stats(
+        &mirror_and_ceiling("environment { colour white  intensity 0.1  samples 3 }").replace(
+            "diffuse 0  ambient 0  mirror 1",
+            "diffuse 0  ambient 1  mirror 1",
+        ),
+    );
+    assert_eq!(sky.rays.shadow, 2 * pixels + 3 * pixels);
+}
+
+/// The white furnace with a weight: a convex object alone in a uniform
+/// sky sees the sky in every direction about its normal, so a surface of
+/// `diffuse` k_d and colour c shows exactly k_d c L_env.
+#[test]
+fn a_diffuse_weight_scales_the_sky_a_surface_gathers() {
+    let _watchdog = crate::watchdog::start();
+    for kd in [0.5, 0.25] {
+        let film = render_src(&format!(
+            "
+camera {{ position <0, 0, 5>  look_at <0, 0, 0>  fov 10 }}
+render {{ width 3  height 3  gamma linear  background black }}
+environment {{ colour rgb(1, 0.5, 0.25)  intensity 0.8  samples 4 }}
+sphere {{ radius 1  material {{ colour rgb(1, 1, 0.5)  diffuse {kd}  ambient 0 }} }}
+"
+        ));
+        let want = [kd * 0.8, kd * 0.4, kd * 0.1];
+        for p in &film.pixels {
+            for c in 0..3 {
+                assert!(
+                    (p[c] as f64 - want[c]).abs() < 1e-6,
+                    "kd {kd}: {p:?} vs {want:?}"
+                );
+            }
+        }
+    }
 }
 
 /// A white floor seen from straight above, lit from straight above, with
