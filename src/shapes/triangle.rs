@@ -163,5 +163,7 @@ mod tests {
         assert!(!tri.occludes(&above, 0.0, 2.0));
         assert!(tri.intersect(&above, 0.0, 2.0f64.next_up()).is_some());
         assert!(tri.occludes(&above, 0.0, 2.0f64.next_up()));
+        // An open surface: it has no inside for CSG to use.
+        assert!(!tri.is_solid());
     }
 }
