@@ -310,3 +310,32 @@ plane {{ normal <0, 1, 0>  material {{ colour white  ambient 0 }} }}
     let half = floor_point("box { min <-5, 1, -5>  max <0, 3, 5> }");
     assert!((half / open - 0.5).abs() < 1e-5, "{half} of {open}");
 }
+
+/// A reflection inside coloured glass travels in the glass, and Beer's
+/// law dims it: from inside a slab of filter f per unit (a floor sunk 1
+/// below its top face, lit from above through that unit of glass, so its
+/// radiance is f), looking straight up at the top face, the camera sees
+/// only the Fresnel reflection R₀ = 0.04 of the floor, f¹ away: R₀ f².
+/// (The light refracted out goes to a black sky.)
+#[test]
+fn a_reflection_inside_coloured_glass_is_dimmed_along_its_way() {
+    let _watchdog = crate::watchdog::start();
+    let film = render_src(
+        "
+camera { position <0, 0.5, 0>  look_at <0, 1, 0>  up <0, 0, -1>  fov 2 }
+render { width 3  height 3  gamma linear  background black }
+light { position <0, 50, 0> }
+plane { normal <0, 1, 0>  material { colour white  ambient 0 } }
+box { min <-20, -1, -20>  max <20, 1, 20>  material { refract { ior 1.5  filter rgb(0.5, 0.8, 1) } } }
+",
+    );
+    let r0 = 0.04;
+    let p = film.get(1, 1);
+    for (c, f) in [0.5f64, 0.8, 1.0].into_iter().enumerate() {
+        let want = r0 * f * f;
+        assert!(
+            (p[c] as f64 - want).abs() < 1e-4 * want,
+            "channel {c}: {p:?} vs {want}"
+        );
+    }
+}
