@@ -339,3 +339,27 @@ box { min <-20, -1, -20>  max <20, 1, 20>  material { refract { ior 1.5  filter 
         );
     }
 }
+
+/// Refracted rays count toward `max_depth` as reflected ones do: seeing a
+/// floor through a glass slab takes two (in at the top, out at the
+/// bottom), so with `max_depth 1` the floor is not seen through it and
+/// with 2 it is, dimmed by Fresnel at both faces, (1 − R₀)².
+#[test]
+fn seeing_through_glass_takes_one_bounce_per_face() {
+    let _watchdog = crate::watchdog::start();
+    let through = |depth: u32| {
+        render_src(&format!(
+            "
+camera {{ position <0, 3, 0>  look_at <0, 0, 0>  up <0, 0, -1>  fov 2 }}
+render {{ width 3  height 3  gamma linear  background black  max_depth {depth} }}
+light {{ position <0, 50, 0> }}
+plane {{ normal <0, 1, 0>  material {{ colour white  ambient 0 }} }}
+box {{ min <-20, 1, -20>  max <20, 2, 20>  material {{ refract {{ ior 1.5 }} }} }}
+"
+        ))
+        .get(1, 1)[1] as f64
+    };
+    assert_eq!(through(1), 0.0);
+    let want = (1.0f64 - 0.04).powi(2);
+    assert!((through(2) - want).abs() < 1e-4, "{} vs {want}", through(2));
+}
