@@ -363,3 +363,22 @@ box {{ min <-20, 1, -20>  max <20, 2, 20>  material {{ refract {{ ior 1.5 }} }} 
     let want = (1.0f64 - 0.04).powi(2);
     assert!((through(2) - want).abs() < 1e-4, "{} vs {want}", through(2));
 }
+
+/// A shadow ray through glass goes on to the light, and only to it: an
+/// opaque slab between the glass and the light still shadows the floor,
+/// and one beyond the light does not.
+#[test]
+fn a_shadow_ray_through_glass_is_blocked_by_what_lies_before_the_light_only() {
+    let _watchdog = crate::watchdog::start();
+    let glass = "box { min <-20, 20, -20>  max <20, 21, 20>  material { refract { ior 1.5  filter rgb(0.5, 0.5, 0.5) } } }";
+    let lit = floor_under(glass).get(8, 8)[1] as f64;
+    assert!((lit - 0.5).abs() < 1e-4, "{lit}");
+    let before = floor_under(&format!(
+        "{glass}\nbox {{ min <-20, 40, -20>  max <20, 41, 20> }}"
+    ));
+    assert_eq!(before.get(8, 8), [0.0, 0.0, 0.0]);
+    let beyond = floor_under(&format!(
+        "{glass}\nbox {{ min <-20, 60, -20>  max <20, 61, 20> }}"
+    ));
+    assert!((beyond.get(8, 8)[1] as f64 - lit).abs() < 1e-6);
+}
