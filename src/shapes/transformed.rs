@@ -154,4 +154,26 @@ mod tests {
         assert!(h.encloses(DVec3::new(0.0, 0.0, 2.4)));
         assert!(!h.encloses(DVec3::new(0.0, 0.0, 2.6)));
     }
+
+    #[test]
+    fn a_smooth_meshs_two_normals_move_each_by_the_inverse_transpose() {
+        // A smooth icosphere's hit has a shading normal (interpolated)
+        // and a geometric one (its face's): moved, each must be the moved
+        // version of its own, not one copied into the other.
+        use crate::shapes::{Mesh, MeshData};
+        let (p, t) = crate::formats::ply::icosphere(1);
+        let data = std::sync::Arc::new(MeshData::from_parts(p, None, None, t));
+        let mesh = Mesh::new(data.clone(), true, 0);
+        let xf = Transform::scale(DVec3::new(3.0, 1.0, 0.5)).unwrap();
+        let moved = Transformed::new(Box::new(Mesh::new(data, true, 0)), xf);
+        let from = DVec3::new(0.31, 0.17, 5.0);
+        let local = Ray::new(from, (DVec3::new(0.45, 0.33, 0.0) - from).normalize());
+        let h = mesh.intersect(&local, 0.0, 1e9).unwrap();
+        assert!((h.normal.normalize() - h.geo_normal.normalize()).length() > 1e-3);
+        let world = Ray::new(xf.point(local.origin), xf.vector(local.dir));
+        let w = moved.intersect(&world, 0.0, 1e9).unwrap();
+        let same = |a: DVec3, b: DVec3| (a.normalize() - b.normalize()).length() < 1e-9;
+        assert!(same(w.normal, xf.normal(h.normal)));
+        assert!(same(w.geo_normal, xf.normal(h.geo_normal)));
+    }
 }
