@@ -382,3 +382,31 @@ fn a_shadow_ray_through_glass_is_blocked_by_what_lies_before_the_light_only() {
     ));
     assert!((beyond.get(8, 8)[1] as f64 - lit).abs() < 1e-6);
 }
+
+/// A region with no pixel is no picture, whichever side is empty: none
+/// across (x past the right edge, or zero width) or none down.
+#[test]
+fn a_region_without_pixels_renders_nothing() {
+    let _watchdog = crate::watchdog::start();
+    let mut scene = build_src(&mirror_and_ceiling(""));
+    let world = raytrace::accel::World::build(std::mem::take(&mut scene.objects));
+    let opts = RenderOptions { progress: None };
+    let region = |x, y, width, height| Region {
+        x,
+        y,
+        width,
+        height,
+    };
+    for r in [
+        region(6, 0, 2, 4),
+        region(2, 0, 0, 4),
+        region(0, 4, 6, 2),
+        region(0, 1, 6, 0),
+    ] {
+        assert!(render_region(&scene, &world, &opts, r).is_none(), "{r:?}");
+    }
+    let one = render_region(&scene, &world, &opts, region(5, 3, 9, 9))
+        .unwrap()
+        .0;
+    assert_eq!((one.width, one.height), (1, 1));
+}
