@@ -410,3 +410,27 @@ fn a_region_without_pixels_renders_nothing() {
         .0;
     assert_eq!((one.width, one.height), (1, 1));
 }
+
+/// The progress callback counts finished rows: once each, up to the
+/// region's height (the bar reaches its end).
+#[test]
+fn progress_counts_every_row_once() {
+    let _watchdog = crate::watchdog::start();
+    let mut scene = build_src(&mirror_and_ceiling(""));
+    let world = raytrace::accel::World::build(std::mem::take(&mut scene.objects));
+    let seen = std::sync::Mutex::new(Vec::new());
+    let progress = |n: u64| seen.lock().unwrap().push(n);
+    let opts = RenderOptions {
+        progress: Some(&progress),
+    };
+    let all = Region {
+        x: 0,
+        y: 0,
+        width: 6,
+        height: 4,
+    };
+    render_region(&scene, &world, &opts, all).unwrap();
+    let mut seen = seen.into_inner().unwrap();
+    seen.sort();
+    assert_eq!(seen, [1, 2, 3, 4]);
+}
