@@ -8,8 +8,10 @@
 #   scripts/mutants.sh src/geometry          # one folder (or file)
 #   scripts/mutants.sh src/shapes/csg.rs -F 'Csg::encloses'   # a focus
 #   JOBS=2 scripts/mutants.sh                # parallel builds (RAM, cores)
-#   scripts/mutants.sh src/geometry --in-place   # reuse this tree's target/
+#   scripts/mutants.sh src/geometry --in-place   # edit this tree in place
 #                                     (edits src/ while it runs: hands off)
+#   scripts/mutants.sh src/render/sampler.rs -C --lib -- render::sampler
+#                         # build and run only the unit tests that cover it
 #
 # Extra arguments go to cargo-mutants. Exclusions, each with its reason,
 # live in .cargo/mutants.toml. Results land in mutants.out/ (outcomes.json,
@@ -22,9 +24,20 @@ if ! cargo mutants --version >/dev/null 2>&1; then
     exit 2
 fi
 
-# The core: whatever decides what a pixel shows. Round 2 folders join this
-# list as they land (materials, lights, samplers, the evaluator).
-CORE="src/implicit/solve src/implicit/surface.rs src/geometry src/shapes src/accel src/render src/scene/texture.rs src/scene/texture"
+# The core: whatever decides what a pixel shows, round 2's materials,
+# lights, samplers (all in src/render), patterns and the evaluator included.
+CORE="src/implicit/solve src/implicit/surface.rs src/geometry src/shapes src/accel src/render src/scene/texture.rs src/scene/texture src/scene/pattern src/eval"
+
+# Each mutant is a rebuild of this crate. At the test profile's opt-level 3
+# that is a minute or more on a busy machine; at 0 a few seconds, and the
+# unit and end-to-end tests below still run in seconds (the dependencies
+# keep opt-level 3: [profile.dev.package."*"]). One test is a timing
+# bound that fails unoptimised (implicit::tests::long_sums_...): skip it
+# with a filter, or set MUTANTS_OPT_LEVEL=3.
+export CARGO_PROFILE_TEST_OPT_LEVEL="${MUTANTS_OPT_LEVEL:-0}"
+# A separate target folder, so that the run neither waits for nor spoils
+# the tree's own builds (the first run builds the dependencies there once).
+export CARGO_TARGET_DIR="${MUTANTS_TARGET_DIR:-$(pwd)/target/mutants}"
 
 paths=""
 while [ $# -gt 0 ] && [ "${1#-}" = "$1" ]; do
@@ -49,5 +62,8 @@ if [ -z "${RAYTRACE_SHARED:-}" ] && [ ! -d ../shared/data ] && [ "${RAYTRACE_SKI
     exit 2
 fi
 
+# --timeout: a mutant whose tests run past a minute (a loop the watchdog
+# has not yet stopped) counts as timed out without waiting for the
+# tests' own bound.
 # shellcheck disable=SC2086
-exec cargo mutants ${JOBS:+--jobs "$JOBS"} $args "$@"
+exec cargo mutants --timeout "${MUTANTS_TIMEOUT:-60}" ${JOBS:+--jobs "$JOBS"} $args "$@"

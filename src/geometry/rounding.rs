@@ -156,14 +156,10 @@ pub fn valid_reflection_normal(ng: DVec3, wo: DVec3, ns: DVec3) -> DVec3 {
     nx * x + nz * ng
 }
 
-/// The mirror direction of `d` (travelling) about the unit normal `n`.
-pub fn reflect(d: DVec3, n: DVec3) -> DVec3 {
-    d - 2.0 * d.dot(n) * n
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::render::material::mirror::reflect;
 
     #[test]
     fn ulp_away_steps_exactly_one_ulp_between_normal_numbers() {
@@ -290,5 +286,155 @@ mod tests {
         // A reflection already above the surface keeps its normal.
         let easy = DVec3::new(0.0, 0.0, 1.0);
         assert_eq!(valid_reflection_normal(ng, wo, easy), easy);
+    }
+
+    /// A small deterministic generator for the property tests below.
+    fn lcg(seed: u64) -> impl FnMut() -> f64 {
+        let mut s = seed;
+        move || {
+            s = s
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (s >> 11) as f64 / (1u64 << 53) as f64
+        }
+    }
+
+    #[test]
+    fn gamma_is_n_u_over_one_less_n_u() {
+        // Higham's γₙ = nu/(1 − nu) with u = 2⁻⁵³: strictly above nu, and
+        // nu recovered as γ/(1 + γ).
+        let u = 2f64.powi(-53);
+        assert_eq!(gamma(0), 0.0);
+        for n in [1u32, 2, 3, 5, 16, 160] {
+            let nu = n as f64 * u;
+            let g = gamma(n);
+            assert!(g > nu, "γ{n} = {g:e} not above {nu:e}");
+            assert!((g - nu / (1.0 - nu)).abs() <= nu * 1e-15, "γ{n} = {g:e}");
+            assert!((g / (1.0 + g) - nu).abs() <= nu * 1e-15, "γ{n}");
+        }
+        assert!(gamma(4) > gamma(3));
+    }
+
+    #[test]
+    fn a_shadow_ray_from_anywhere_reaches_just_short_of_its_target() {
+        let mut r = lcg(3);
+        for _ in 0..500 {
+            let mut v = |k: f64| DVec3::new(r() - 0.5, r() - 0.5, r() - 0.5) * k;
+            let p = v(20.0);
+            let n = v(2.0);
+            let target = p + v(30.0);
+            let err = v(1e-9).abs();
+            let (o, d, reach) = shadow_ray_to(p, err, n, target);
+            // The origin is the offset point, on the target's side.
+            assert_eq!(o, offset_ray_origin(p, err, n, target - p));
+            assert!((o - p).length() < 1e-6);
+            assert!((o - p).dot(n) * (target - p).dot(n) >= 0.0);
+            // A unit direction that reaches the target at (nearly) reach/(1 − ε).
+            assert!((d.length() - 1.0).abs() < 1e-12);
+            let dist = (target - o).length();
+            assert!((reach - dist * (1.0 - SHADOW_EPSILON)).abs() < 1e-9 * dist.max(1.0));
+            assert!((o + d * dist - target).length() < 1e-9 * dist.max(1.0));
+        }
+    }
+
+    #[test]
+    fn the_transformed_error_is_pbrts_bound_and_holds_the_moved_box() {
+        let mut r = lcg(11);
+        for _ in 0..300 {
+            let mut v = |k: f64| DVec3::new(r() - 0.5, r() - 0.5, r() - 0.5) * k;
+            let m = DMat4::from_cols(
+                v(4.0).extend(0.0),
+                v(4.0).extend(0.0),
+                v(4.0).extend(0.0),
+                v(200.0).extend(1.0),
+            );
+            let p = v(10.0);
+            let e = v(1e-6).abs();
+            let (q, err) = transform_point_error(&m, p, e);
+            assert_eq!(q, m.transform_point3(p));
+            // pbrt-v4's bound, summed here entry by entry:
+            // (1 + γ₃) Σⱼ |m_ij| eⱼ + γ₃ (Σⱼ |m_ij| |pⱼ| + |t_i|).
+            let g = gamma(3);
+            for i in 0..3 {
+                let (mut carried, mut mag) = (0.0, m.col(3)[i].abs());
+                for j in 0..3 {
+                    carried += m.col(j)[i].abs() * e[j];
+                    mag += m.col(j)[i].abs() * p[j].abs();
+                }
+                let want = (1.0 + g) * carried + g * mag;
+                assert!(
+                    (err[i] - want).abs() <= want * 1e-12,
+                    "{i}: {} vs {want}",
+                    err[i]
+                );
+            }
+            // Every corner of the error box lands inside the moved box.
+            for k in 0..8 {
+                let s = DVec3::new(
+                    if k & 1 == 0 { -1.0 } else { 1.0 },
+                    if k & 2 == 0 { -1.0 } else { 1.0 },
+                    if k & 4 == 0 { -1.0 } else { 1.0 },
+                );
+                let c = m.transform_point3(p + s * e);
+                assert!(((c - q).abs() - err).max_element() <= 0.0, "corner {k}");
+            }
+        }
+    }
+
+    #[test]
+    fn a_valid_reflection_stays_above_the_surface_by_the_threshold() {
+        let mut r = lcg(5);
+        let (mut kept, mut tilted) = (0, 0);
+        let (mut toward, mut away) = (0, 0);
+        for _ in 0..4000 {
+            let mut v = || DVec3::new(r() - 0.5, r() - 0.5, r() - 0.5);
+            let ng = v().normalize();
+            let wo = {
+                let w = v().normalize();
+                if w.dot(ng) < 0.0 { -w } else { w }
+            };
+            let ns = {
+                let s = (ng + v() * 1.6).normalize();
+                if s.dot(ng) < 0.05 { continue } else { s }
+            };
+            let iz = wo.dot(ng);
+            if iz < 1e-3 {
+                continue;
+            }
+            let threshold = (0.9 * iz).min(0.01);
+            let fixed = valid_reflection_normal(ng, wo, ns);
+            assert!((fixed.length() - 1.0).abs() < 1e-9);
+            let before = reflect(-wo, ns).dot(ng);
+            let after = reflect(-wo, fixed).dot(ng);
+            if before >= threshold {
+                assert_eq!(fixed, ns);
+                kept += 1;
+                continue;
+            }
+            tilted += 1;
+            // Lifted exactly to the threshold, by a normal between ns and
+            // ng (in their plane, closer to ng).
+            assert!((after - threshold).abs() < 1e-7, "{after} vs {threshold}");
+            assert!(fixed.dot(ns.cross(ng)).abs() < 1e-9);
+            assert!(fixed.dot(ng) >= ns.dot(ng) - 1e-12);
+            let x = (ns - ns.dot(ng) * ng).normalize();
+            assert!(fixed.dot(x) >= -1e-9, "tilted past ng");
+            if wo.dot(x) < 0.0 {
+                toward += 1
+            } else {
+                away += 1
+            }
+        }
+        assert!(kept > 100 && tilted > 100, "{kept} kept, {tilted} tilted");
+        assert!(toward > 20 && away > 20, "{toward} / {away}");
+        // No shading normal of its own: ng itself, however grazing.
+        let ng = DVec3::new(0.0, 0.6, 0.8);
+        for wo in [
+            DVec3::new(1.0, 0.0, 0.0),
+            DVec3::new(0.3, 0.8, 0.6).normalize(),
+        ] {
+            let wo = (wo + ng * 1e-9).normalize();
+            assert_eq!(valid_reflection_normal(ng, wo, ng), ng);
+        }
     }
 }

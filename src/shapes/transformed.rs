@@ -125,4 +125,59 @@ mod tests {
         let expected = DVec3::new(p.x / 4.0, p.y, 0.0).normalize();
         assert!((h.normal.normalize() - expected).length() < 1e-9);
     }
+
+    #[test]
+    fn shadows_insides_and_solidity_move_with_the_shape() {
+        // A unit sphere stretched ×2 along x and moved to x = 10: a shadow
+        // ray is blocked where the ellipsoid lies, and nowhere else.
+        let xf = Transform::scale(DVec3::new(2.0, 1.0, 1.0))
+            .unwrap()
+            .then(&Transform::translate(DVec3::new(10.0, 0.0, 0.0)));
+        let s = Transformed::new(Box::new(Sphere::new(DVec3::ZERO, 1.0, 0)), xf);
+        assert!(s.is_solid());
+        let down = |x: f64| Ray::new(DVec3::new(x, 5.0, 0.0), -DVec3::Y);
+        assert!(
+            s.occludes(&down(11.5), 0.0, 9.0),
+            "inside the stretched x range"
+        );
+        assert!(
+            !s.occludes(&down(0.0), 0.0, 9.0),
+            "where the unmoved sphere was"
+        );
+        assert!(!s.occludes(&down(12.5), 0.0, 9.0));
+        assert!(!s.occludes(&down(11.5), 0.0, 3.0), "short of it");
+        // An open shape stays open.
+        let d = Transformed::new(Box::new(crate::shapes::Disc::new(DVec3::ZERO, 1.0, 0)), xf);
+        assert!(!d.is_solid());
+        // A half-space (the one kind that answers `encloses`) moved with
+        // it: z < 0.5 before; x, y free; after the move z is unchanged.
+        let h = Transformed::new(
+            Box::new(crate::shapes::Plane::new(DVec3::Z, 0.5, 0)),
+            Transform::translate(DVec3::new(0.0, 0.0, 2.0)),
+        );
+        assert!(h.encloses(DVec3::new(0.0, 0.0, 2.4)));
+        assert!(!h.encloses(DVec3::new(0.0, 0.0, 2.6)));
+    }
+
+    #[test]
+    fn a_smooth_meshs_two_normals_move_each_by_the_inverse_transpose() {
+        // A smooth icosphere's hit has a shading normal (interpolated)
+        // and a geometric one (its face's): moved, each must be the moved
+        // version of its own, not one copied into the other.
+        use crate::shapes::{Mesh, MeshData};
+        let (p, t) = crate::formats::ply::icosphere(1);
+        let data = std::sync::Arc::new(MeshData::from_parts(p, None, None, t));
+        let mesh = Mesh::new(data.clone(), true, 0);
+        let xf = Transform::scale(DVec3::new(3.0, 1.0, 0.5)).unwrap();
+        let moved = Transformed::new(Box::new(Mesh::new(data, true, 0)), xf);
+        let from = DVec3::new(0.31, 0.17, 5.0);
+        let local = Ray::new(from, (DVec3::new(0.45, 0.33, 0.0) - from).normalize());
+        let h = mesh.intersect(&local, 0.0, 1e9).unwrap();
+        assert!((h.normal.normalize() - h.geo_normal.normalize()).length() > 1e-3);
+        let world = Ray::new(xf.point(local.origin), xf.vector(local.dir));
+        let w = moved.intersect(&world, 0.0, 1e9).unwrap();
+        let same = |a: DVec3, b: DVec3| (a.normalize() - b.normalize()).length() < 1e-9;
+        assert!(same(w.normal, xf.normal(h.normal)));
+        assert!(same(w.geo_normal, xf.normal(h.geo_normal)));
+    }
 }

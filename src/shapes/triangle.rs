@@ -146,4 +146,24 @@ mod tests {
         assert!(testing::check_normals(&tri, &rays) > 50);
         assert!(testing::check_occludes_agrees(&tri, &rays) > 100);
     }
+
+    #[test]
+    fn the_interval_is_open_at_both_ends() {
+        // `t_min < t < t_max`: a ray starting exactly on the triangle with
+        // t_min = 0 does not meet it again at t = 0 (no self-shadowing),
+        // and a triangle exactly at t_max is beyond the reach.
+        let tri = Triangle::new(DVec3::ZERO, DVec3::X * 2.0, DVec3::Y * 2.0, 0);
+        let on = Ray::new(DVec3::new(0.5, 0.25, 0.0), DVec3::Z);
+        assert_eq!(tri.root_t(&on).map(|(t, _)| t), Some(0.0));
+        assert!(tri.intersect(&on, 0.0, 9.0).is_none());
+        assert!(!tri.occludes(&on, 0.0, 9.0));
+        let above = Ray::new(DVec3::new(0.5, 0.25, 2.0), -DVec3::Z);
+        assert_eq!(tri.root_t(&above).map(|(t, _)| t), Some(2.0));
+        assert!(tri.intersect(&above, 0.0, 2.0).is_none());
+        assert!(!tri.occludes(&above, 0.0, 2.0));
+        assert!(tri.intersect(&above, 0.0, 2.0f64.next_up()).is_some());
+        assert!(tri.occludes(&above, 0.0, 2.0f64.next_up()));
+        // An open surface: it has no inside for CSG to use.
+        assert!(!tri.is_solid());
+    }
 }

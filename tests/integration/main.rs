@@ -11,6 +11,7 @@ mod fmt;
 mod geometry;
 mod golden;
 mod hostile;
+mod integrator;
 mod lang;
 mod looks;
 mod lsp;
