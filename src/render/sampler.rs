@@ -381,7 +381,9 @@ mod tests {
     #[test]
     fn a_pair_is_two_independent_uniform_numbers_of_every_input() {
         let p = Pixel { x: 12, y: 34 };
-        let xs: Vec<(f64, f64)> = (0..20000).map(|s| uniform_pair(p, s, 2, 11)).collect();
+        let xs: Vec<(f64, f64)> = (0..20000)
+            .map(|s| PixelKey::new(p, 11).uniform_pair(s, 2))
+            .collect();
         assert_uniform_pairs(&xs, "uniform_pair");
         // 32 bits each: every coordinate is a multiple of 2⁻³².
         assert!(
@@ -389,14 +391,14 @@ mod tests {
                 .all(|q| (q.0 * 2f64.powi(32)).fract() == 0.0
                     && (q.1 * 2f64.powi(32)).fract() == 0.0)
         );
-        let a = uniform_pair(p, 3, 2, 11);
-        assert_eq!(a, uniform_pair(p, 3, 2, 11));
+        let a = PixelKey::new(p, 11).uniform_pair(3, 2);
+        assert_eq!(a, PixelKey::new(p, 11).uniform_pair(3, 2));
         for b in [
-            uniform_pair(Pixel { x: 13, y: 34 }, 3, 2, 11),
-            uniform_pair(Pixel { x: 12, y: 35 }, 3, 2, 11),
-            uniform_pair(p, 4, 2, 11),
-            uniform_pair(p, 3, 3, 11),
-            uniform_pair(p, 3, 2, 12),
+            PixelKey::new(Pixel { x: 13, y: 34 }, 11).uniform_pair(3, 2),
+            PixelKey::new(Pixel { x: 12, y: 35 }, 11).uniform_pair(3, 2),
+            PixelKey::new(p, 11).uniform_pair(4, 2),
+            PixelKey::new(p, 11).uniform_pair(3, 3),
+            PixelKey::new(p, 12).uniform_pair(3, 2),
         ] {
             assert!(a.0 != b.0 && a.1 != b.1, "{a:?} {b:?}");
         }
@@ -465,7 +467,7 @@ mod tests {
             0x0123_4567_89ab_cdef,
         );
         let u = uniform(p, sample, dim, seed);
-        let v = uniform_pair(p, sample, dim, seed);
+        let v = PixelKey::new(p, seed).uniform_pair(sample, dim);
         let mut variants = Vec::new();
         for b in 0..32 {
             variants.push((
@@ -494,7 +496,11 @@ mod tests {
         }
         for (q, s, d, k) in variants {
             assert_ne!(u, uniform(q, s, d, k), "{q:?} {s:#x} {d:#x} {k:#x}");
-            assert_ne!(v, uniform_pair(q, s, d, k), "{q:?} {s:#x} {d:#x} {k:#x}");
+            assert_ne!(
+                v,
+                PixelKey::new(q, k).uniform_pair(s, d),
+                "{q:?} {s:#x} {d:#x} {k:#x}"
+            );
         }
     }
 
@@ -738,7 +744,7 @@ mod tests {
     #[test]
     fn a_stream_draws_the_path_dimensions_in_order() {
         let p = Pixel { x: 4, y: 2 };
-        let mut s = SampleStream::new(p, 6, 99);
+        let mut s = SampleStream::new(PixelKey::new(p, 99), 6);
         let a = s.next1();
         let (b, c) = s.next2();
         let d = s.next1();

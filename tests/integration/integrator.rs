@@ -20,8 +20,18 @@ fn render_stats(src: &str) -> (Film, RenderStats) {
         .num_threads(1)
         .build()
         .unwrap();
-    pool.install(|| render_region(&scene, &world, &RenderOptions { progress: None }, all))
-        .unwrap()
+    pool.install(|| {
+        render_region(
+            &scene,
+            &world,
+            &RenderOptions {
+                progress: None,
+                cancel: None,
+            },
+            all,
+        )
+    })
+    .unwrap()
 }
 
 /// A mirror floor filling the view from straight above, showing a white
@@ -390,7 +400,10 @@ fn a_region_without_pixels_renders_nothing() {
     let _watchdog = crate::watchdog::start();
     let mut scene = build_src(&mirror_and_ceiling(""));
     let world = raytrace::accel::World::build(std::mem::take(&mut scene.objects));
-    let opts = RenderOptions { progress: None };
+    let opts = RenderOptions {
+        progress: None,
+        cancel: None,
+    };
     let region = |x, y, width, height| Region {
         x,
         y,
@@ -422,6 +435,7 @@ fn progress_counts_every_row_once() {
     let progress = |n: u64| seen.lock().unwrap().push(n);
     let opts = RenderOptions {
         progress: Some(&progress),
+        cancel: None,
     };
     let all = Region {
         x: 0,
