@@ -139,7 +139,7 @@ pub fn render_to(
         .map_err(Failure::output)?;
     let pool = thread_pool(args).map_err(Failure::system)?;
     let transfer = scene.settings.transfer;
-    let world = accel::World::build(std::mem::take(&mut scene.objects));
+    let world = accel::World::build_with(std::mem::take(&mut scene.objects), scene.settings.accel);
     let (film, stats) =
         render_with_progress(args, &pool, &scene, &world, region).map_err(Failure::scene)?;
     target.write(&film, transfer).map_err(Failure::output)?;

@@ -69,6 +69,8 @@ pub struct Options {
     /// `frame` (0 for a still).
     pub frame: f64,
     pub limits: Limits,
+    /// `--accel`: replaces the scene's `render { accel }`.
+    pub accel: Option<crate::accel::Accel>,
 }
 
 /// The evaluated program.

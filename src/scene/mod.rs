@@ -37,6 +37,8 @@ pub struct RenderSettings {
     pub seed: u64,
     /// More samples only where a pixel's first ones disagree.
     pub adaptive: Option<Adaptive>,
+    /// The acceleration structure (`render { accel }`, `--accel`).
+    pub accel: crate::accel::Accel,
 }
 
 /// `render { samples N  adaptive { threshold T  max_samples M } }`: a pixel
@@ -80,6 +82,7 @@ impl Default for RenderSettings {
             sampler: SamplerKind::Regular,
             seed: 0,
             adaptive: None,
+            accel: crate::accel::Accel::default(),
         }
     }
 }
