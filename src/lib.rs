@@ -340,11 +340,34 @@ fn print_stats(
         "accelerate {:>10.3} s  ({} objects, {} unbounded, {} nodes)",
         a.build_seconds, a.objects, a.unbounded, a.nodes
     );
-    let t = &a.tree;
-    eprintln!(
-        "  kd-tree  {:>10}  leaves ({} empty), {} refs, max leaf {}, depth {}",
-        t.leaves, t.empty_leaves, t.references, t.max_leaf, t.max_depth
-    );
+    if let Some(b) = &a.bvh {
+        eprintln!(
+            "  bvh      {:>10}  leaves, {} wide nodes, depth {}, {:.1} KiB",
+            b.leaves,
+            b.nodes,
+            b.depth,
+            b.bytes as f64 / 1024.0
+        );
+    } else {
+        let t = &a.tree;
+        eprintln!(
+            "  kd-tree  {:>10}  leaves ({} empty), {} refs, max leaf {}, depth {}",
+            t.leaves, t.empty_leaves, t.references, t.max_leaf, t.max_depth
+        );
+    }
+    let mb = &a.mesh_bvhs;
+    if mb.trees > 0 {
+        eprintln!(
+            "  mesh bvh {:>10.3} s  ({} bvhs, {} triangles, {} wide nodes, {} leaves, depth {}, {:.1} MiB)",
+            mb.build_seconds,
+            mb.trees,
+            mb.triangles,
+            mb.nodes,
+            mb.leaves,
+            mb.max_depth,
+            mb.bytes as f64 / (1024.0 * 1024.0)
+        );
+    }
     let m = &a.meshes;
     if m.trees > 0 {
         eprintln!(

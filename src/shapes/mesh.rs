@@ -97,6 +97,9 @@ pub struct MeshData {
     normals: Vec<DVec3>,
     uvs: Option<Vec<DVec2>>,
     triangles: Vec<[u32; 3]>,
+    /// The corners copied out per triangle, for the kd-tree's tests (whose
+    /// leaves hold only indices); empty under the BVH, whose leaves hold
+    /// the corners themselves: see [`MeshData::tri`].
     pre: Vec<TriPre>,
     index: Index,
     /// Worked out when first asked (CSG asks; a render alone never does):
@@ -161,14 +164,10 @@ impl MeshData {
         accel: Accel,
     ) -> MeshData {
         let corner = |t: &[u32; 3], k: usize| positions[t[k] as usize];
-        let pre: Vec<TriPre> = triangles
-            .iter()
-            .map(|t| TriPre {
-                v0: corner(t, 0),
-                v1: corner(t, 1),
-                v2: corner(t, 2),
-            })
-            .collect();
+        let pre: Vec<TriPre> = match accel {
+            Accel::KdTree => triangles.iter().map(|t| tri_pre(&positions, t)).collect(),
+            Accel::Bvh => Vec::new(),
+        };
         let build = || match accel {
             Accel::KdTree => {
                 let boxes: Vec<Aabb> = triangles
@@ -184,7 +183,10 @@ impl MeshData {
                 Index::Kd(tree)
             }
             Accel::Bvh => {
-                let corners: Vec<[DVec3; 3]> = pre.iter().map(|p| [p.v0, p.v1, p.v2]).collect();
+                let corners: Vec<[DVec3; 3]> = triangles
+                    .iter()
+                    .map(|t| [0, 1, 2].map(|k| corner(t, k)))
+                    .collect();
                 let bvh = TriangleBvh::build(&corners);
                 crate::accel::record_mesh_bvh(bvh.stats());
                 Index::Bvh(bvh)
@@ -194,7 +196,7 @@ impl MeshData {
         // fills the other.
         let (index, normals) = rayon::join(build, || match normals {
             Some(n) => n,
-            None => area_weighted_normals(&positions, &pre, &triangles),
+            None => area_weighted_normals(&positions, &triangles),
         });
         MeshData {
             positions,
@@ -209,6 +211,24 @@ impl MeshData {
 
     pub fn triangle_count(&self) -> usize {
         self.triangles.len()
+    }
+
+    /// Every triangle's corners, in order.
+    #[cfg(test)]
+    fn all_tris(&self) -> Vec<TriPre> {
+        (0..self.triangles.len() as u32)
+            .map(|i| self.tri(i))
+            .collect()
+    }
+
+    /// Triangle `i`'s corners: copied out for the kd-tree, read through
+    /// the index under the BVH (which only asks for the nearest hit's).
+    #[inline]
+    fn tri(&self, i: u32) -> TriPre {
+        match self.pre.get(i as usize) {
+            Some(p) => *p,
+            None => tri_pre(&self.positions, &self.triangles[i as usize]),
+        }
     }
 
     pub fn vertex_count(&self) -> usize {
@@ -272,7 +292,8 @@ impl MeshData {
                 .uvs
                 .as_ref()
                 .map_or(0, |u| u.len() * size_of::<DVec2>())
-            + self.triangles.len() * (size_of::<[u32; 3]>() + size_of::<TriPre>())
+            + self.triangles.len() * size_of::<[u32; 3]>()
+            + self.pre.len() * size_of::<TriPre>()
             + match &self.index {
                 Index::Kd(t) => t.memory(),
                 Index::Bvh(b) => b.memory(),
@@ -290,7 +311,7 @@ impl MeshData {
                 // The BVH finds the triangle and its t; the barycentrics
                 // come from the one scalar test, for the nearest only.
                 let (t, i) = bvh.nearest(ray, &sheared, t_min, t_max)?;
-                let (t1, b1, b2) = self.pre[i as usize].hit_sheared(&sheared, t_min, t_max)?;
+                let (t1, b1, b2) = self.tri(i).hit_sheared(&sheared, t_min, t_max)?;
                 debug_assert_eq!(t.to_bits(), t1.to_bits());
                 return Some((t1, i, b1, b2));
             }
@@ -304,7 +325,7 @@ impl MeshData {
     }
 
     fn hit_record(&self, ray: &Ray, t: f64, tri: u32, b1: f64, b2: f64, smooth: bool) -> MeshHit {
-        let pre = &self.pre[tri as usize];
+        let pre = &self.tri(tri);
         let geometric = pre.normal();
         let idx = self.triangles[tri as usize];
         let b0 = 1.0 - b1 - b2;
@@ -525,16 +546,22 @@ fn half_space(
     }
 }
 
+/// A triangle's corners out of the vertex array.
+#[inline]
+fn tri_pre(positions: &[DVec3], t: &[u32; 3]) -> TriPre {
+    TriPre {
+        v0: positions[t[0] as usize],
+        v1: positions[t[1] as usize],
+        v2: positions[t[2] as usize],
+    }
+}
+
 /// Each vertex gets the sum of its triangles' unnormalised normals
 /// (|e1 × e2| is twice the area, so big faces weigh more), normalised.
-fn area_weighted_normals(
-    positions: &[DVec3],
-    pre: &[TriPre],
-    triangles: &[[u32; 3]],
-) -> Vec<DVec3> {
+fn area_weighted_normals(positions: &[DVec3], triangles: &[[u32; 3]]) -> Vec<DVec3> {
     let mut n = vec![DVec3::ZERO; positions.len()];
-    for (t, p) in triangles.iter().zip(pre) {
-        let face = p.normal();
+    for t in triangles {
+        let face = tri_pre(positions, t).normal();
         for &k in t {
             n[k as usize] += face;
         }
@@ -597,7 +624,7 @@ fn solid_crossings(
     hit: impl Fn(f64, u32, f64, f64) -> Hit,
     out: &mut Vec<Hit>,
 ) {
-    let facing = |k: usize| d.pre[found[k].1 as usize].normal().dot(ray.dir);
+    let facing = |k: usize| d.tri(found[k].1).normal().dot(ray.dir);
     // Groups of crossings at one point: (first index, end, the sign of
     // their facing if all agree, else 0).
     let mut groups: Vec<(usize, usize, f64)> = Vec::new();
@@ -722,7 +749,8 @@ impl Shape for Mesh {
         let sheared = ShearedRay::new(ray);
         let mut visit = |i: u32| {
             if let Some((t, b1, b2)) =
-                d.pre[i as usize].hit_sheared(&sheared, f64::NEG_INFINITY, f64::INFINITY)
+                d.tri(i)
+                    .hit_sheared(&sheared, f64::NEG_INFINITY, f64::INFINITY)
             {
                 found.push((t, i, b1, b2));
             }

@@ -15,7 +15,7 @@ fn sphere_mesh(levels: u32) -> Arc<MeshData> {
 
 /// The nearest hit by testing every triangle.
 fn brute(d: &MeshData, ray: &Ray) -> Option<f64> {
-    d.pre
+    d.all_tris()
         .iter()
         .filter_map(|p| p.hit(ray, 1e-9, f64::INFINITY))
         .map(|h| h.0)
@@ -86,7 +86,7 @@ fn icosphere_is_closed_outward_and_round() {
     let d = sphere_mesh(3);
     assert_eq!(d.triangle_count(), 20 * 64);
     assert!(d.is_closed());
-    for p in &d.pre {
+    for p in &d.all_tris() {
         let centre = p.v0 + (p.e1() + p.e2()) / 3.0;
         assert!(p.normal().dot(centre) > 0.0, "inward triangle");
     }
@@ -106,7 +106,7 @@ fn silhouette_matches_the_analytic_sphere() {
     // Every triangle's plane is at least `inner` from the centre: inside
     // that radius every ray must hit, beyond radius 1 none may.
     let inner = d
-        .pre
+        .all_tris()
         .iter()
         .map(|p| p.normal().normalize().dot(p.v0))
         .fold(f64::INFINITY, f64::min);
@@ -641,7 +641,7 @@ fn a_grid_has_no_cracks_at_its_vertices_and_edges() {
             let sheared = ShearedRay::new(&ray);
             let hit = mesh
                 .data
-                .pre
+                .all_tris()
                 .iter()
                 .any(|t| t.hit_sheared(&sheared, 0.0, f64::INFINITY).is_some());
             missed += !hit as usize;
@@ -655,9 +655,84 @@ fn a_grid_has_no_cracks_at_its_vertices_and_edges() {
         let sheared = ShearedRay::new(&ray);
         assert!(
             mesh.data
-                .pre
+                .all_tris()
                 .iter()
                 .any(|t| { t.hit_sheared(&sheared, 0.0, f64::INFINITY).is_some() })
         );
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(150))]
+
+    /// The kd-tree, the BVH (both paths) and brute force on random meshes
+    /// (flat triangles in x, y and z planes and degenerate ones among
+    /// them) and rays (some parallel to those planes, some leaving a
+    /// triangle's surface): the same nearest t, bit for bit, on a triangle
+    /// crossed there, and shadow rays that agree.
+    #[test]
+    fn kd_tree_bvh_and_brute_force_agree(
+        tris in prop::collection::vec(crate::accel::bvh::tests::triangle(), 1..60),
+        rays in prop::collection::vec(
+            (crate::accel::bvh::tests::point(), crate::accel::bvh::tests::direction()),
+            1..30,
+        ),
+        from_surface in prop::collection::vec(
+            (0usize..60, 0.0f64..0.5, 0.0f64..0.5, crate::accel::bvh::tests::direction()),
+            0..15,
+        ),
+    ) {
+        let pos: Vec<DVec3> = tris.iter().flatten().copied().collect();
+        let idx: Vec<[u32; 3]> = (0..tris.len() as u32).map(|i| [3 * i, 3 * i + 1, 3 * i + 2]).collect();
+        let mut all: Vec<(Ray, f64)> = rays.iter().map(|&(o, d)| (Ray::new(o * 2.0, d), 0.0)).collect();
+        for &(k, a, b, d) in &from_surface {
+            let t = tris[k % tris.len()];
+            all.push((Ray::new(t[0] + a * (t[1] - t[0]) + b * (t[2] - t[0]), d), 1e-9));
+        }
+        for (name, d) in each_index(&pos, &idx) {
+            let d = Arc::new(d);
+            let mesh = Mesh::new(d.clone(), false, 0);
+            for (ray, t_min) in &all {
+                // The kd-tree can lose a ray lying in a plane of a flat
+                // triangle's box (`kd_tree_loses_a_ray_along_a_box_face`):
+                // it is held to the rays off those planes only.
+                if d.accel() == Accel::KdTree && ray.dir.to_array().contains(&0.0) {
+                    continue;
+                }
+                let want = crate::accel::bvh::tests::brute(&tris, ray, *t_min, f64::INFINITY);
+                let got = d.nearest(ray, *t_min, f64::INFINITY);
+                prop_assert_eq!(got.map(|h| h.0.to_bits()), want.map(|h| h.0.to_bits()), "{}", name);
+                if let Some((t, tri, _, _)) = got {
+                    let own = d.tri(tri).hit(ray, *t_min, f64::INFINITY).map(|h| h.0);
+                    prop_assert_eq!(own, Some(t), "{}: triangle {} is not at t", name, tri);
+                }
+                prop_assert_eq!(mesh.occludes(ray, *t_min, f64::INFINITY), want.is_some(), "{}", name);
+            }
+        }
+    }
+}
+
+/// Found by `kd_tree_bvh_and_brute_force_agree`: a ray in the plane
+/// x = −2 of a flat triangle's edge (its box's face), which the watertight
+/// test hits on that edge, is lost by the mesh's kd-tree. The BVH finds
+/// it. Left for the kd-tree's owner; run with `--ignored`.
+#[test]
+#[ignore = "kd-tree bug: a ray lying in a box face of a flat triangle"]
+fn kd_tree_loses_a_ray_along_a_box_face() {
+    let tris = [[
+        DVec3::new(-2.0, -1.5, 0.0),
+        DVec3::new(0.0, 0.0, 0.0),
+        DVec3::new(-2.0, 0.0, 0.0),
+    ]];
+    let pos: Vec<DVec3> = tris[0].to_vec();
+    let ray = Ray::new(
+        DVec3::new(-2.0, -3.0, 2.0 * 0.9594917509319966),
+        DVec3::new(0.0, 1.0, -0.7793656324392497),
+    );
+    let want = crate::accel::bvh::tests::brute(&tris, &ray, 0.0, f64::INFINITY);
+    assert!(want.is_some());
+    for (name, d) in each_index(&pos, &[[0, 1, 2]]) {
+        let got = d.nearest(&ray, 0.0, f64::INFINITY).map(|h| h.0);
+        assert_eq!(got, want.map(|h| h.0), "{name}");
     }
 }

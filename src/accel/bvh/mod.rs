@@ -14,7 +14,7 @@
 mod build;
 mod node;
 #[cfg(test)]
-mod tests;
+pub(crate) mod tests;
 mod triangles;
 
 pub use build::BvhParams;
