@@ -15,7 +15,7 @@ mod build;
 mod node;
 #[cfg(test)]
 pub(crate) mod tests;
-mod triangles;
+pub mod triangles;
 
 pub use build::BvhParams;
 

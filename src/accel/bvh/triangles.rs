@@ -17,13 +17,13 @@ use crate::shapes::ShearedRay;
 /// Four triangles: `v[3·corner + axis][lane]`.
 #[derive(Clone, Debug)]
 #[repr(C, align(32))]
-pub(crate) struct Block {
+pub struct Block {
     v: [[f64; 4]; 9],
 }
 
 impl Block {
     /// A block from four triangles' corners (`None`: a padding lane).
-    pub(crate) fn new(tris: [Option<[DVec3; 3]>; 4]) -> Block {
+    pub fn new(tris: [Option<[DVec3; 3]>; 4]) -> Block {
         let mut v = [[0.0; 4]; 9];
         for (lane, t) in tris.iter().enumerate() {
             if let Some(t) = t {
@@ -48,7 +48,7 @@ impl Block {
 
 /// The ray as the four-lane test reads it.
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct LaneRay {
+pub struct LaneRay {
     sheared: ShearedRay,
     origin: [f64; 3],
     k: [usize; 3],
@@ -56,6 +56,10 @@ pub(crate) struct LaneRay {
 }
 
 impl LaneRay {
+    pub fn from_ray(ray: &crate::geometry::Ray) -> LaneRay {
+        Self::new(ShearedRay::new(ray))
+    }
+
     pub(crate) fn new(sheared: ShearedRay) -> LaneRay {
         let (o, k, s) = sheared.parts();
         LaneRay {
@@ -67,11 +71,24 @@ impl LaneRay {
     }
 }
 
+/// [`hits_scalar`] or [`hits_avx2`], as `simd` says (the scalar path
+/// where the CPU lacks AVX2).
+#[inline]
+pub fn hits(b: &Block, r: &LaneRay, t_min: f64, t_max: f64, simd: super::Simd) -> (u32, [f64; 4]) {
+    #[cfg(target_arch = "x86_64")]
+    if simd == super::Simd::Avx2 && super::Simd::avx2_available() {
+        // SAFETY: the CPU has AVX2 and FMA (checked just above).
+        return unsafe { hits_avx2(b, r, t_min, t_max) };
+    }
+    let _ = simd;
+    hits_scalar(b, r, t_min, t_max)
+}
+
 /// The lanes whose triangle the ray crosses at `t_min < t < t_max` (bit
 /// per lane) and their t, one lane at a time through
 /// [`ShearedRay::triangle`] itself.
 #[inline(always)]
-pub(crate) fn hits_scalar(b: &Block, r: &LaneRay, t_min: f64, t_max: f64) -> (u32, [f64; 4]) {
+pub fn hits_scalar(b: &Block, r: &LaneRay, t_min: f64, t_max: f64) -> (u32, [f64; 4]) {
     let mut mask = 0;
     let mut ts = [0.0; 4];
     for (lane, t_lane) in ts.iter_mut().enumerate() {
@@ -96,7 +113,7 @@ pub(crate) fn hits_scalar(b: &Block, r: &LaneRay, t_min: f64, t_max: f64) -> (u3
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
 #[inline]
-pub(crate) unsafe fn hits_avx2(b: &Block, r: &LaneRay, t_min: f64, t_max: f64) -> (u32, [f64; 4]) {
+pub unsafe fn hits_avx2(b: &Block, r: &LaneRay, t_min: f64, t_max: f64) -> (u32, [f64; 4]) {
     use std::arch::x86_64::*;
     // SAFETY: each row holds four f64, 32-byte aligned by `Block`'s repr.
     let ld = |i: usize| unsafe { _mm256_load_pd(b.v[i].as_ptr()) };
