@@ -109,7 +109,8 @@ pub(crate) fn point() -> impl Strategy<Value = DVec3> {
     (coord(), coord(), coord()).prop_map(|(x, y, z)| DVec3::new(x, y, z))
 }
 
-/// Triangles: general, flat in an x, y or z plane, or degenerate.
+/// Triangles: general, flat in an x, y or z plane, or degenerate (a
+/// repeated corner, or a point).
 pub(crate) fn triangle() -> impl Strategy<Value = Tri> {
     prop_oneof![
         4 => [point(), point(), point()],
@@ -119,7 +120,11 @@ pub(crate) fn triangle() -> impl Strategy<Value = Tri> {
             }
             t
         }),
-        1 => (point(), point()).prop_map(|(a, b)| [a, b, (a + b) * 0.5]),
+        // A repeated corner: exactly no area. (A sliver whose corners
+        // are only nearly in line is not degenerate to the f64 test, and
+        // its t can then lie off the triangle's own box, where no box
+        // structure could promise to look.)
+        1 => (point(), point()).prop_map(|(a, b)| [a, b, a]),
         1 => point().prop_map(|a| [a, a, a]),
     ]
 }
