@@ -110,7 +110,9 @@ fn min_ps(a: f32, b: f32) -> f32 {
 
 /// Which of the eight boxes the ray crosses within `[t_min, t_max]`
 /// (bit k for child k) and where it enters each (widened), one lane at a
-/// time. The same arithmetic as [`hits_avx2`], lane for lane.
+/// time. The same arithmetic as [`hits_avx2`], lane for lane, except that
+/// the final widening is fused there (one rounding fewer; both stay within
+/// [`SLACK`]'s margin, so both are conservative).
 #[inline(always)]
 pub(super) fn hits_scalar(n: &Node8, r: &BoxRay, t_min: f32, t_max: f32) -> (u32, [f32; 8]) {
     let mut mask = 0;
