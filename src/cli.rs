@@ -58,6 +58,12 @@ pub struct Args {
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=MAX_SIDE as i64))]
     pub height: Option<u32>,
 
+    /// The acceleration structure for meshes and the scene's objects:
+    /// `bvh` (the wide BVH, the default) or `kdtree` (overrides the
+    /// scene's `render { accel }`).
+    #[arg(long, value_name = "kdtree|bvh", value_parser = clap::builder::PossibleValuesParser::new(crate::accel::Accel::NAMES))]
+    pub accel: Option<String>,
+
     /// Antialiasing: N × N rays per pixel, 1 to 16 (overrides the scene's
     /// `render { samples }`).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16))]
@@ -217,6 +223,10 @@ impl Args {
                 steps: self.max_steps,
             },
             cancel: None,
+            accel: self
+                .accel
+                .as_deref()
+                .and_then(crate::accel::Accel::from_name),
         })
     }
 }

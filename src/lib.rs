@@ -151,11 +151,11 @@ pub fn render_to(
         .map_err(Failure::output)?;
     let pool = thread_pool(args).map_err(Failure::system)?;
     let transfer = scene.settings.transfer;
-    let world = accel::World::build(std::mem::take(&mut scene.objects));
+    let world = accel::World::build_with(std::mem::take(&mut scene.objects), scene.settings.accel);
     let first =
         render_with_progress(args, &pool, &scene, &world, region).map_err(Failure::scene)?;
     let (film, stats) = farm::motion::blur(args, program, &scene, first, |mut sub| {
-        let world = accel::World::build(std::mem::take(&mut sub.objects));
+        let world = accel::World::build_with(std::mem::take(&mut sub.objects), sub.settings.accel);
         render_with_progress(args, &pool, &sub, &world, region).map_err(Failure::scene)
     })?;
     // A region's image records where it lies; a whole picture stays plain.
@@ -379,11 +379,34 @@ fn print_stats(
         "accelerate {:>10.3} s  ({} objects, {} unbounded, {} nodes)",
         a.build_seconds, a.objects, a.unbounded, a.nodes
     );
-    let t = &a.tree;
-    eprintln!(
-        "  kd-tree  {:>10}  leaves ({} empty), {} refs, max leaf {}, depth {}",
-        t.leaves, t.empty_leaves, t.references, t.max_leaf, t.max_depth
-    );
+    if let Some(b) = &a.bvh {
+        eprintln!(
+            "  bvh      {:>10}  leaves, {} wide nodes, depth {}, {:.1} KiB",
+            b.leaves,
+            b.nodes,
+            b.depth,
+            b.bytes as f64 / 1024.0
+        );
+    } else {
+        let t = &a.tree;
+        eprintln!(
+            "  kd-tree  {:>10}  leaves ({} empty), {} refs, max leaf {}, depth {}",
+            t.leaves, t.empty_leaves, t.references, t.max_leaf, t.max_depth
+        );
+    }
+    let mb = &a.mesh_bvhs;
+    if mb.trees > 0 {
+        eprintln!(
+            "  mesh bvh {:>10.3} s  ({} bvhs, {} triangles, {} wide nodes, {} leaves, depth {}, {:.1} MiB)",
+            mb.build_seconds,
+            mb.trees,
+            mb.triangles,
+            mb.nodes,
+            mb.leaves,
+            mb.max_depth,
+            mb.bytes as f64 / (1024.0 * 1024.0)
+        );
+    }
     let m = &a.meshes;
     if m.trees > 0 {
         eprintln!(
@@ -399,10 +422,12 @@ fn print_stats(
     }
     let mem = &a.memory;
     eprintln!(
-        "  memory   {:>10}  (scene tree {}, mesh trees {})",
+        "  memory   {:>10}  (scene tree {}, scene bvh {}, mesh trees {}, mesh bvhs {})",
         bytes(mem.total()),
         bytes(mem.scene_tree),
-        bytes(mem.mesh_trees)
+        bytes(mem.scene_bvh),
+        bytes(mem.mesh_trees),
+        bytes(mem.mesh_bvhs)
     );
     eprintln!("render     {:>10.3} s", stats.seconds);
     eprintln!("total      {:>10.3} s", total.as_secs_f64());

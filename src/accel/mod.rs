@@ -1,9 +1,11 @@
 //! Stage 3, ACCELERATE: the index the renderer asks for the nearest hit.
 //!
-//! Bounded objects go into a kd-tree ([`KdTree`], the same structure that
-//! indexes the triangles of each mesh); unbounded ones (planes, some
-//! implicit surfaces) are tested one by one beside it.
+//! Bounded objects go into a wide BVH ([`bvh::Bvh`]) or a kd-tree
+//! ([`KdTree`]), whichever [`Accel`] names: the same structure indexes the
+//! triangles of each mesh. Unbounded ones (planes, some implicit surfaces)
+//! are tested one by one beside it.
 
+pub mod bvh;
 mod kdtree;
 mod shaft;
 
@@ -11,6 +13,36 @@ mod shaft;
 pub(crate) use kdtree::counters;
 pub use kdtree::{BuildParams, Clip, KdTree, TreeStats};
 pub use shaft::Shaft;
+
+/// Which structure indexes a mesh's triangles and the scene's objects:
+/// `render { accel kdtree }` / `render { accel bvh }`, `--accel`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Accel {
+    /// The SAH kd-tree with clipped ("perfect") splits.
+    KdTree,
+    /// The wide BVH (eight children a node, SIMD box tests).
+    #[default]
+    Bvh,
+}
+
+impl Accel {
+    pub const NAMES: [&'static str; 2] = ["kdtree", "bvh"];
+
+    pub fn from_name(name: &str) -> Option<Accel> {
+        match name {
+            "kdtree" => Some(Accel::KdTree),
+            "bvh" => Some(Accel::Bvh),
+            _ => None,
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Accel::KdTree => "kdtree",
+            Accel::Bvh => "bvh",
+        }
+    }
+}
 
 use crate::geometry::Ray;
 use crate::shapes::{Hit, Shape};
@@ -29,6 +61,10 @@ pub struct AccelStats {
     /// Every mesh tree built so far in this process (meshes are built while
     /// the scene is, before the world; instances share one tree).
     pub meshes: MeshTreeTotals,
+    /// Every mesh BVH built so far in this process.
+    pub mesh_bvhs: MeshBvhTotals,
+    /// The scene-level BVH, when `accel bvh` chose it.
+    pub bvh: Option<bvh::BvhStats>,
     pub memory: AccelMemory,
 }
 
@@ -40,11 +76,15 @@ pub struct AccelMemory {
     pub scene_tree: usize,
     /// The meshes' own kd-trees (instances share one).
     pub mesh_trees: usize,
+    /// The scene-level BVH, when `accel bvh` chose it.
+    pub scene_bvh: usize,
+    /// The meshes' own BVHs.
+    pub mesh_bvhs: usize,
 }
 
 impl AccelMemory {
     pub fn total(&self) -> usize {
-        self.scene_tree + self.mesh_trees
+        self.scene_tree + self.mesh_trees + self.scene_bvh + self.mesh_bvhs
     }
 }
 
@@ -74,6 +114,48 @@ pub(crate) fn record_mesh_tree(s: &TreeStats) {
     m[5].fetch_max(s.max_depth as u64, Ordering::Relaxed);
     m[6].fetch_add((s.build_seconds * 1e9) as u64, Ordering::Relaxed);
     m[7].fetch_add(s.bytes as u64, Ordering::Relaxed);
+}
+
+/// Sums over the wide BVHs of the meshes loaded.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct MeshBvhTotals {
+    pub trees: u64,
+    pub triangles: u64,
+    pub nodes: u64,
+    pub leaves: u64,
+    pub bytes: u64,
+    pub max_depth: u64,
+    pub build_seconds: f64,
+}
+
+static MESH_BVHS: [AtomicU64; 7] = [const { AtomicU64::new(0) }; 7];
+
+/// Called by each mesh once its BVH is built.
+pub(crate) fn record_mesh_bvh(s: &bvh::BvhStats) {
+    let m = &MESH_BVHS;
+    m[0].fetch_add(1, Ordering::Relaxed);
+    m[1].fetch_add(s.items as u64, Ordering::Relaxed);
+    m[2].fetch_add(s.nodes as u64, Ordering::Relaxed);
+    m[3].fetch_add(s.leaves as u64, Ordering::Relaxed);
+    m[4].fetch_add(s.bytes as u64, Ordering::Relaxed);
+    m[5].fetch_max(s.depth as u64, Ordering::Relaxed);
+    m[6].fetch_add((s.build_seconds * 1e9) as u64, Ordering::Relaxed);
+}
+
+fn mesh_bvh_totals() -> MeshBvhTotals {
+    let v: Vec<u64> = MESH_BVHS
+        .iter()
+        .map(|a| a.load(Ordering::Relaxed))
+        .collect();
+    MeshBvhTotals {
+        trees: v[0],
+        triangles: v[1],
+        nodes: v[2],
+        leaves: v[3],
+        bytes: v[4],
+        max_depth: v[5],
+        build_seconds: v[6] as f64 * 1e-9,
+    }
 }
 
 fn mesh_totals() -> MeshTreeTotals {
@@ -128,13 +210,33 @@ impl Mailbox {
 #[derive(Debug)]
 pub struct World {
     bounded: Vec<Box<dyn Shape>>,
-    tree: KdTree,
+    index: WorldIndex,
     unbounded: Vec<Box<dyn Shape>>,
     pub stats: AccelStats,
 }
 
+#[derive(Debug)]
+enum WorldIndex {
+    Kd(KdTree),
+    Bvh(bvh::Bvh),
+}
+
+/// The SAH costs for scene objects: testing one costs several box tests
+/// (a sphere a few, a placed mesh a whole walk of its own), so leaves end
+/// up holding one or two.
+const OBJECTS: bvh::BvhParams = bvh::BvhParams {
+    group_cost: 4.0,
+    group: 1,
+    max_leaf: 4,
+};
+
 impl World {
+    /// The objects indexed by the default structure.
     pub fn build(objects: Vec<Box<dyn Shape>>) -> World {
+        Self::build_with(objects, Accel::default())
+    }
+
+    pub fn build_with(objects: Vec<Box<dyn Shape>>, accel: Accel) -> World {
         let start = std::time::Instant::now();
         let (mut bounded, mut unbounded) = (Vec::new(), Vec::new());
         for o in objects {
@@ -145,25 +247,48 @@ impl World {
             }
         }
         let boxes: Vec<_> = bounded.iter().map(|o| o.bounds()).collect();
-        let tree = KdTree::build(&boxes);
-        let meshes = mesh_totals();
+        let (index, nodes, tree, bvh, tree_bytes) = match accel {
+            Accel::KdTree => {
+                let t = KdTree::build(&boxes);
+                let (n, s, bytes) = (t.stats.nodes, t.stats, t.memory());
+                (WorldIndex::Kd(t), n, s, None, bytes)
+            }
+            Accel::Bvh => {
+                let b = bvh::Bvh::build(&boxes, OBJECTS);
+                let (n, s) = (b.stats.nodes, b.stats);
+                (WorldIndex::Bvh(b), n, TreeStats::default(), Some(s), 0)
+            }
+        };
+        let (meshes, mesh_bvhs) = (mesh_totals(), mesh_bvh_totals());
         let stats = AccelStats {
             objects: bounded.len() + unbounded.len(),
             unbounded: unbounded.len(),
-            nodes: tree.stats.nodes,
+            nodes,
             build_seconds: start.elapsed().as_secs_f64(),
-            tree: tree.stats,
+            tree,
             meshes,
+            mesh_bvhs,
+            bvh,
             memory: AccelMemory {
-                scene_tree: tree.memory(),
+                scene_tree: tree_bytes,
                 mesh_trees: meshes.bytes as usize,
+                scene_bvh: bvh.map_or(0, |b| b.bytes),
+                mesh_bvhs: mesh_bvhs.bytes as usize,
             },
         };
         World {
             bounded,
-            tree,
+            index,
             unbounded,
             stats,
+        }
+    }
+
+    /// Forces the BVH's scalar or AVX2 path (tests run both).
+    #[cfg(test)]
+    pub(crate) fn set_simd(&mut self, simd: bvh::Simd) {
+        if let WorldIndex::Bvh(b) = &mut self.index {
+            b.set_simd(simd);
         }
     }
 
@@ -182,26 +307,54 @@ impl World {
                 best = Some((h, &**o));
             }
         }
-        let mut mailbox = Mailbox::default();
-        self.tree.nearest(ray, t_min, t_best, |i, limit| {
-            if mailbox.seen(i) {
-                return None;
+        match &self.index {
+            WorldIndex::Kd(tree) => {
+                let mut mailbox = Mailbox::default();
+                tree.nearest(ray, t_min, t_best, |i, limit| {
+                    if mailbox.seen(i) {
+                        return None;
+                    }
+                    let o = &*self.bounded[i as usize];
+                    let h = o.intersect(ray, t_min, limit)?;
+                    best = Some((h, o));
+                    Some(h.t)
+                });
             }
-            let o = &*self.bounded[i as usize];
-            let h = o.intersect(ray, t_min, limit)?;
-            best = Some((h, o));
-            Some(h.t)
-        });
+            // Each object is in one leaf: no mailbox.
+            WorldIndex::Bvh(b) => b.walk(ray, t_min, t_best, |first, count, mut limit| {
+                for &i in &b.items()[first..first + count] {
+                    let o = &*self.bounded[i as usize];
+                    if let Some(h) = o.intersect(ray, t_min, limit) {
+                        limit = h.t;
+                        best = Some((h, o));
+                    }
+                }
+                limit
+            }),
+        }
         best
     }
 
     pub fn occludes(&self, ray: &Ray, t_min: f64, t_max: f64) -> bool {
-        self.unbounded.iter().any(|o| o.occludes(ray, t_min, t_max)) || {
-            let mut mailbox = Mailbox::default();
-            self.tree.any(ray, t_min, t_max, |i| {
-                !mailbox.seen(i) && self.bounded[i as usize].occludes(ray, t_min, t_max)
-            })
-        }
+        self.unbounded.iter().any(|o| o.occludes(ray, t_min, t_max))
+            || match &self.index {
+                WorldIndex::Kd(tree) => {
+                    let mut mailbox = Mailbox::default();
+                    tree.any(ray, t_min, t_max, |i| {
+                        !mailbox.seen(i) && self.bounded[i as usize].occludes(ray, t_min, t_max)
+                    })
+                }
+                WorldIndex::Bvh(b) => {
+                    let mut hit = false;
+                    b.walk(ray, t_min, t_max, |first, count, limit| {
+                        hit = b.items()[first..first + count]
+                            .iter()
+                            .any(|&i| self.bounded[i as usize].occludes(ray, t_min, t_max));
+                        if hit { f64::NEG_INFINITY } else { limit }
+                    });
+                    hit
+                }
+            }
     }
 }
 
@@ -261,9 +414,11 @@ impl World {
                 return None;
             }
         }
-        let all = self.tree.overlapping(&shaft.bounds(), |i| {
-            !shaft.may_meet(&self.bounded[i as usize].bounds()) || b.push(i)
-        });
+        let keep = |i: u32| !shaft.may_meet(&self.bounded[i as usize].bounds()) || b.push(i);
+        let all = match &self.index {
+            WorldIndex::Kd(t) => t.overlapping(&shaft.bounds(), keep),
+            WorldIndex::Bvh(t) => t.overlapping(&shaft.bounds(), keep),
+        };
         all.then_some(b)
     }
 
@@ -319,9 +474,24 @@ mod tests {
             .map(|s| Box::new(s.clone()) as Box<dyn Shape>)
             .collect();
         objects.push(Box::new(Plane::new(DVec3::Y, -9.0, 999)));
-        let world = World::build(objects);
-        assert_eq!(world.stats.unbounded, 1);
-        assert!(world.stats.tree.leaves > 10, "{:?}", world.stats.tree);
+        let clone = |objects: &[Box<dyn Shape>]| -> Vec<Box<dyn Shape>> {
+            (0..objects.len())
+                .map(|i| match i {
+                    300 => Box::new(Plane::new(DVec3::Y, -9.0, 999)) as Box<dyn Shape>,
+                    _ => Box::new(spheres[i].clone()),
+                })
+                .collect()
+        };
+        let kd = World::build_with(clone(&objects), Accel::KdTree);
+        assert_eq!(kd.stats.unbounded, 1);
+        assert!(kd.stats.tree.leaves > 10, "{:?}", kd.stats.tree);
+        let mut worlds = vec![kd];
+        for simd in [bvh::Simd::Scalar, bvh::Simd::Avx2] {
+            let mut w = World::build_with(clone(&objects), Accel::Bvh);
+            assert!(w.stats.bvh.is_some_and(|b| b.nodes > 5 && b.items == 300));
+            w.set_simd(simd);
+            worlds.push(w);
+        }
         let floor = Plane::new(DVec3::Y, -9.0, 999);
         for _ in 0..3000 {
             let o = DVec3::new(rnd(), rnd(), rnd()) * 15.0;
@@ -333,16 +503,18 @@ mod tests {
                 .chain([&floor as &dyn Shape])
                 .filter_map(|s| s.intersect(&ray, 1e-9, f64::INFINITY))
                 .min_by(|a, b| a.t.total_cmp(&b.t));
-            let got = world.intersect(&ray, 1e-9, f64::INFINITY);
-            assert_eq!(
-                got.map(|h| (h.t, h.material)),
-                want.map(|h| (h.t, h.material))
-            );
-            // Shadow rays: blocked just past the nearest hit, free just before.
-            let t = want.map_or(f64::INFINITY, |h| h.t);
-            assert_eq!(world.occludes(&ray, 1e-9, t * 1.001), want.is_some());
-            if want.is_some() {
-                assert!(!world.occludes(&ray, 1e-9, t * 0.999));
+            for world in &worlds {
+                let got = world.intersect(&ray, 1e-9, f64::INFINITY);
+                assert_eq!(
+                    got.map(|h| (h.t, h.material)),
+                    want.map(|h| (h.t, h.material))
+                );
+                // Shadow rays: blocked just past the nearest hit, free just before.
+                let t = want.map_or(f64::INFINITY, |h| h.t);
+                assert_eq!(world.occludes(&ray, 1e-9, t * 1.001), want.is_some());
+                if want.is_some() {
+                    assert!(!world.occludes(&ray, 1e-9, t * 0.999));
+                }
             }
         }
     }

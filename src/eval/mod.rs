@@ -72,6 +72,8 @@ pub struct Options {
     /// Set from another thread to stop the evaluation early, quietly (an
     /// editor's newer text makes this check useless).
     pub cancel: Option<Arc<std::sync::atomic::AtomicBool>>,
+    /// `--accel`: replaces the scene's `render { accel }`.
+    pub accel: Option<crate::accel::Accel>,
 }
 
 /// The evaluated program.

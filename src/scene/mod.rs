@@ -41,6 +41,8 @@ pub struct RenderSettings {
     pub adaptive: Option<Adaptive>,
     /// Sub-frames averaged over an open shutter (`farm::motion`).
     pub motion_blur: Option<MotionBlur>,
+    /// The acceleration structure (`render { accel }`, `--accel`).
+    pub accel: crate::accel::Accel,
 }
 
 /// `render { motion_blur N  shutter S }`: the picture is the mean of N
@@ -101,6 +103,7 @@ impl Default for RenderSettings {
             seed: 0,
             adaptive: None,
             motion_blur: None,
+            accel: crate::accel::Accel::default(),
         }
     }
 }

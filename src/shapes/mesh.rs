@@ -1,12 +1,12 @@
 //! Triangle meshes from files (read by `formats`), indexed by their own
-//! kd-tree.
+//! kd-tree or wide BVH (`render { accel … }`, [`Accel`]).
 //!
 //! ```text
 //! mesh "bunny.ply" { smooth  scale 20  material { colour rgb(0.8, 0.8, 0.8) } }
 //! mesh "ico.ply"   { flat  translate <0, 1, 0> }
 //! ```
 //! The path is relative to the scene file. [`MeshData`] (vertices,
-//! triangles, per-triangle edges and the kd-tree) is built once per file and
+//! triangles, per-triangle corners and the index) is built once per file and
 //! shared by every placement through an `Arc`; a placement is a [`Mesh`]
 //! (shading mode and material) inside a `Transformed`.
 //!
@@ -22,7 +22,8 @@
 //! repeats a corner; it is not a hole).
 
 use super::{Hit, Shape, ShearedRay, barycentric_point};
-use crate::accel::{BuildParams, KdTree};
+use crate::accel::bvh::TriangleBvh;
+use crate::accel::{Accel, BuildParams, KdTree};
 use crate::formats::{self, MeshFileError, TriangleSoup};
 use crate::geometry::rounding::gamma;
 use crate::geometry::{Aabb, DVec2, DVec3, Ray};
@@ -81,6 +82,14 @@ const MESH_TREE: BuildParams = BuildParams {
     depth_base: 8.0,
 };
 
+/// The structure that finds a ray's triangles. Both give the same nearest
+/// hit: the same `f64` watertight test decides every triangle.
+#[derive(Debug)]
+enum Index {
+    Kd(KdTree),
+    Bvh(TriangleBvh),
+}
+
 /// Triangles loaded once and shared by every placement (instancing).
 #[derive(Debug)]
 pub struct MeshData {
@@ -89,8 +98,11 @@ pub struct MeshData {
     normals: Vec<DVec3>,
     uvs: Option<Vec<DVec2>>,
     triangles: Vec<[u32; 3]>,
+    /// The corners copied out per triangle, for the kd-tree's tests (whose
+    /// leaves hold only indices); empty under the BVH, whose leaves hold
+    /// the corners themselves: see [`MeshData::tri`].
     pre: Vec<TriPre>,
-    tree: KdTree,
+    index: Index,
     /// Worked out when first asked (CSG asks; a render alone never does):
     /// its edge sort is a noticeable part of loading a big mesh.
     closed: std::sync::OnceLock<bool>,
@@ -99,17 +111,38 @@ pub struct MeshData {
 impl MeshData {
     /// The mesh in a file (see [`formats::read_mesh`]).
     pub fn load(path: &Path) -> Result<MeshData, MeshFileError> {
-        Ok(Self::from_soup(formats::read_mesh(path)?))
+        Self::load_with(path, Accel::default())
+    }
+
+    /// The mesh in a file, indexed by `accel`.
+    pub fn load_with(path: &Path, accel: Accel) -> Result<MeshData, MeshFileError> {
+        Ok(Self::from_soup_with(formats::read_mesh(path)?, accel))
     }
 
     /// The mesh in a PLY file's bytes.
     pub fn from_bytes(bytes: &[u8]) -> Result<MeshData, MeshFileError> {
-        Ok(Self::from_soup(formats::ply::parse(bytes)?))
+        Self::from_bytes_with(bytes, Accel::default())
+    }
+
+    /// The mesh in a PLY file's bytes, indexed by `accel`.
+    pub fn from_bytes_with(bytes: &[u8], accel: Accel) -> Result<MeshData, MeshFileError> {
+        Ok(Self::from_soup_with(formats::ply::parse(bytes)?, accel))
     }
 
     /// The mesh of what a reader produced.
     pub fn from_soup(soup: TriangleSoup) -> MeshData {
-        Self::from_parts(soup.positions, soup.normals, soup.uvs, soup.triangles)
+        Self::from_soup_with(soup, Accel::default())
+    }
+
+    /// The mesh of what a reader produced, indexed by `accel`.
+    pub fn from_soup_with(soup: TriangleSoup, accel: Accel) -> MeshData {
+        Self::from_parts_with(
+            soup.positions,
+            soup.normals,
+            soup.uvs,
+            soup.triangles,
+            accel,
+        )
     }
 
     /// Builds from arrays already checked (indices in range, finite
@@ -120,41 +153,59 @@ impl MeshData {
         uvs: Option<Vec<DVec2>>,
         triangles: Vec<[u32; 3]>,
     ) -> MeshData {
+        Self::from_parts_with(positions, normals, uvs, triangles, Accel::default())
+    }
+
+    /// [`MeshData::from_parts`] indexed by `accel`.
+    pub fn from_parts_with(
+        positions: Vec<DVec3>,
+        normals: Option<Vec<DVec3>>,
+        uvs: Option<Vec<DVec2>>,
+        triangles: Vec<[u32; 3]>,
+        accel: Accel,
+    ) -> MeshData {
         let corner = |t: &[u32; 3], k: usize| positions[t[k] as usize];
-        let pre: Vec<TriPre> = triangles
-            .iter()
-            .map(|t| TriPre {
-                v0: corner(t, 0),
-                v1: corner(t, 1),
-                v2: corner(t, 2),
-            })
-            .collect();
-        let boxes: Vec<Aabb> = triangles
-            .iter()
-            .map(|t| Aabb::new(corner(t, 0), corner(t, 1)).grow(corner(t, 2)))
-            .collect();
-        let clip = |i: u32, cell: &Aabb, axis: usize, split: f64| {
-            let t = &triangles[i as usize];
-            split_triangle([0, 1, 2].map(|k| corner(t, k)), cell, axis, split)
+        let pre: Vec<TriPre> = match accel {
+            Accel::KdTree => triangles.iter().map(|t| tri_pre(&positions, t)).collect(),
+            Accel::Bvh => Vec::new(),
+        };
+        let build = || match accel {
+            Accel::KdTree => {
+                let boxes: Vec<Aabb> = triangles
+                    .iter()
+                    .map(|t| Aabb::new(corner(t, 0), corner(t, 1)).grow(corner(t, 2)))
+                    .collect();
+                let clip = |i: u32, cell: &Aabb, axis: usize, split: f64| {
+                    let t = &triangles[i as usize];
+                    split_triangle([0, 1, 2].map(|k| corner(t, k)), cell, axis, split)
+                };
+                let tree = KdTree::build_clipped(&boxes, &clip, MESH_TREE);
+                crate::accel::record_mesh_tree(&tree.stats);
+                Index::Kd(tree)
+            }
+            Accel::Bvh => {
+                let corners: Vec<[DVec3; 3]> = triangles
+                    .iter()
+                    .map(|t| [0, 1, 2].map(|k| corner(t, k)))
+                    .collect();
+                let bvh = TriangleBvh::build(&corners);
+                crate::accel::record_mesh_bvh(bvh.stats());
+                Index::Bvh(bvh)
+            }
         };
         // The tree's first levels run on one thread: the rest of the set-up
         // fills the other.
-        let (tree, normals) = rayon::join(
-            || KdTree::build_clipped(&boxes, &clip, MESH_TREE),
-            || match normals {
-                Some(n) => n,
-                None => area_weighted_normals(&positions, &pre, &triangles),
-            },
-        );
-        drop(boxes);
-        crate::accel::record_mesh_tree(&tree.stats);
+        let (index, normals) = rayon::join(build, || match normals {
+            Some(n) => n,
+            None => area_weighted_normals(&positions, &triangles),
+        });
         MeshData {
             positions,
             normals,
             uvs,
             triangles,
             pre,
-            tree,
+            index,
             closed: std::sync::OnceLock::new(),
         }
     }
@@ -163,12 +214,41 @@ impl MeshData {
         self.triangles.len()
     }
 
+    /// Every triangle's corners, in order.
+    #[cfg(test)]
+    fn all_tris(&self) -> Vec<TriPre> {
+        (0..self.triangles.len() as u32)
+            .map(|i| self.tri(i))
+            .collect()
+    }
+
+    /// Triangle `i`'s corners: copied out for the kd-tree, read through
+    /// the index under the BVH (which only asks for the nearest hit's).
+    #[inline]
+    fn tri(&self, i: u32) -> TriPre {
+        match self.pre.get(i as usize) {
+            Some(p) => *p,
+            None => tri_pre(&self.positions, &self.triangles[i as usize]),
+        }
+    }
+
     pub fn vertex_count(&self) -> usize {
         self.positions.len()
     }
 
     pub fn bounds(&self) -> Aabb {
-        self.tree.bounds()
+        match &self.index {
+            Index::Kd(t) => t.bounds(),
+            Index::Bvh(b) => b.bounds(),
+        }
+    }
+
+    /// Which structure indexes the triangles.
+    pub fn accel(&self) -> Accel {
+        match &self.index {
+            Index::Kd(_) => Accel::KdTree,
+            Index::Bvh(_) => Accel::Bvh,
+        }
     }
 
     pub fn is_closed(&self) -> bool {
@@ -177,8 +257,28 @@ impl MeshData {
             .get_or_init(|| is_closed(&self.positions, &self.triangles))
     }
 
-    pub fn tree_stats(&self) -> &crate::accel::TreeStats {
-        &self.tree.stats
+    /// The kd-tree's figures, when a kd-tree indexes the triangles.
+    pub fn tree_stats(&self) -> Option<&crate::accel::TreeStats> {
+        match &self.index {
+            Index::Kd(t) => Some(&t.stats),
+            Index::Bvh(_) => None,
+        }
+    }
+
+    /// The wide BVH's figures, when a BVH indexes the triangles.
+    pub fn bvh_stats(&self) -> Option<&crate::accel::bvh::BvhStats> {
+        match &self.index {
+            Index::Bvh(b) => Some(b.stats()),
+            Index::Kd(_) => None,
+        }
+    }
+
+    /// Forces the BVH's scalar or AVX2 path (tests run both).
+    #[cfg(test)]
+    pub(crate) fn set_simd(&mut self, simd: crate::accel::bvh::Simd) {
+        if let Index::Bvh(b) = &mut self.index {
+            b.set_simd(simd);
+        }
     }
 
     /// The corners of triangle `i`.
@@ -195,8 +295,12 @@ impl MeshData {
                 .uvs
                 .as_ref()
                 .map_or(0, |u| u.len() * size_of::<DVec2>())
-            + self.triangles.len() * (size_of::<[u32; 3]>() + size_of::<TriPre>())
-            + self.tree.memory()
+            + self.triangles.len() * size_of::<[u32; 3]>()
+            + self.pre.len() * size_of::<TriPre>()
+            + match &self.index {
+                Index::Kd(t) => t.memory(),
+                Index::Bvh(b) => b.memory(),
+            }
     }
 
     /// Nearest triangle: `(t, triangle, b1, b2)`.
@@ -204,7 +308,18 @@ impl MeshData {
     fn nearest(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<(f64, u32, f64, f64)> {
         let mut rec = (0u32, 0.0, 0.0);
         let sheared = ShearedRay::new(ray);
-        let t = self.tree.nearest(ray, t_min, t_max, |i, best| {
+        let tree = match &self.index {
+            Index::Kd(tree) => tree,
+            Index::Bvh(bvh) => {
+                // The BVH finds the triangle and its t; the barycentrics
+                // come from the one scalar test, for the nearest only.
+                let (t, i) = bvh.nearest(ray, &sheared, t_min, t_max)?;
+                let (t1, b1, b2) = self.tri(i).hit_sheared(&sheared, t_min, t_max)?;
+                debug_assert_eq!(t.to_bits(), t1.to_bits());
+                return Some((t1, i, b1, b2));
+            }
+        };
+        let t = tree.nearest(ray, t_min, t_max, |i, best| {
             let (t, b1, b2) = self.pre[i as usize].hit_sheared(&sheared, t_min, best)?;
             rec = (i, b1, b2);
             Some(t)
@@ -213,7 +328,7 @@ impl MeshData {
     }
 
     fn hit_record(&self, ray: &Ray, t: f64, tri: u32, b1: f64, b2: f64, smooth: bool) -> MeshHit {
-        let pre = &self.pre[tri as usize];
+        let pre = &self.tri(tri);
         let geometric = pre.normal();
         let idx = self.triangles[tri as usize];
         let b0 = 1.0 - b1 - b2;
@@ -434,16 +549,22 @@ fn half_space(
     }
 }
 
+/// A triangle's corners out of the vertex array.
+#[inline]
+fn tri_pre(positions: &[DVec3], t: &[u32; 3]) -> TriPre {
+    TriPre {
+        v0: positions[t[0] as usize],
+        v1: positions[t[1] as usize],
+        v2: positions[t[2] as usize],
+    }
+}
+
 /// Each vertex gets the sum of its triangles' unnormalised normals
 /// (|e1 × e2| is twice the area, so big faces weigh more), normalised.
-fn area_weighted_normals(
-    positions: &[DVec3],
-    pre: &[TriPre],
-    triangles: &[[u32; 3]],
-) -> Vec<DVec3> {
+fn area_weighted_normals(positions: &[DVec3], triangles: &[[u32; 3]]) -> Vec<DVec3> {
     let mut n = vec![DVec3::ZERO; positions.len()];
-    for (t, p) in triangles.iter().zip(pre) {
-        let face = p.normal();
+    for t in triangles {
+        let face = tri_pre(positions, t).normal();
         for &k in t {
             n[k as usize] += face;
         }
@@ -533,7 +654,7 @@ fn solid_crossings(
     hit: impl Fn(f64, u32, f64, f64) -> Hit,
     out: &mut Vec<Hit>,
 ) {
-    let facing = |k: usize| d.pre[found[k].1 as usize].normal().dot(ray.dir);
+    let facing = |k: usize| d.tri(found[k].1).normal().dot(ray.dir);
     // Groups of crossings at one point: (first index, end, the sign of
     // their facing if all agree, else 0).
     let mut groups: Vec<(usize, usize, f64)> = Vec::new();
@@ -642,24 +763,32 @@ impl Shape for Mesh {
     fn occludes(&self, ray: &Ray, t_min: f64, t_max: f64) -> bool {
         let d = &self.data;
         let sheared = ShearedRay::new(ray);
-        d.tree.any(ray, t_min, t_max, |i| {
-            d.pre[i as usize]
-                .hit_sheared(&sheared, t_min, t_max)
-                .is_some()
-        })
+        match &d.index {
+            Index::Kd(tree) => tree.any(ray, t_min, t_max, |i| {
+                d.pre[i as usize]
+                    .hit_sheared(&sheared, t_min, t_max)
+                    .is_some()
+            }),
+            Index::Bvh(bvh) => bvh.any(ray, &sheared, t_min, t_max),
+        }
     }
 
     fn crossings(&self, ray: &Ray, out: &mut Vec<Hit>) {
         let d = &self.data;
         let mut found: Vec<(f64, u32, f64, f64)> = Vec::new();
         let sheared = ShearedRay::new(ray);
-        d.tree.along_line(ray, |i| {
+        let mut visit = |i: u32| {
             if let Some((t, b1, b2)) =
-                d.pre[i as usize].hit_sheared(&sheared, f64::NEG_INFINITY, f64::INFINITY)
+                d.tri(i)
+                    .hit_sheared(&sheared, f64::NEG_INFINITY, f64::INFINITY)
             {
                 found.push((t, i, b1, b2));
             }
-        });
+        };
+        match &d.index {
+            Index::Kd(tree) => tree.along_line(ray, visit),
+            Index::Bvh(bvh) => bvh.along_line(ray, &sheared, |_, i| visit(i)),
+        }
         // A triangle in several leaves is met once per leaf.
         found.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
         found.dedup_by_key(|h| h.1);

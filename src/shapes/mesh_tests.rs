@@ -1,6 +1,7 @@
 //! The mesh's tests: silhouettes and normals against the analytic sphere,
-//! the kd-tree against brute force (icosphere, bunny, random soups),
-//! instancing, and watertightness at vertices and edges.
+//! the kd-tree and the wide BVH (both SIMD paths) against brute force and
+//! each other (icosphere, bunny, random soups), instancing, and
+//! watertightness at vertices and edges through either index.
 
 use super::*;
 use crate::formats::ply::icosphere;
@@ -14,30 +15,66 @@ fn sphere_mesh(levels: u32) -> Arc<MeshData> {
 
 /// The nearest hit by testing every triangle.
 fn brute(d: &MeshData, ray: &Ray) -> Option<f64> {
-    d.pre
+    d.all_tris()
         .iter()
         .filter_map(|p| p.hit(ray, 1e-9, f64::INFINITY))
         .map(|h| h.0)
         .min_by(f64::total_cmp)
 }
 
+/// The mesh indexed by the kd-tree, and by the BVH on each SIMD path this
+/// machine runs, with a name for messages.
+fn each_index(pos: &[DVec3], tris: &[[u32; 3]]) -> Vec<(String, MeshData)> {
+    use crate::accel::bvh::Simd;
+    let mut out = vec![(
+        "kd-tree".to_string(),
+        MeshData::from_parts_with(pos.to_vec(), None, None, tris.to_vec(), Accel::KdTree),
+    )];
+    for simd in [Simd::Scalar, Simd::Avx2] {
+        if simd == Simd::Avx2 && !Simd::avx2_available() {
+            continue;
+        }
+        let mut d = MeshData::from_parts_with(pos.to_vec(), None, None, tris.to_vec(), Accel::Bvh);
+        d.set_simd(simd);
+        out.push((format!("{simd:?} bvh"), d));
+    }
+    out
+}
+
+/// Every index finds brute force's nearest t (bit for bit) and agrees on
+/// shadow rays; where two find the same triangle their whole hits (normal,
+/// uv, point, error bounds) are equal. Returns the rays that hit.
 fn agree(d: &MeshData, rays: &[Ray]) -> usize {
-    let mesh = Mesh::new(
-        Arc::new(MeshData::from_parts(
-            d.positions.clone(),
-            None,
-            None,
-            d.triangles.clone(),
-        )),
-        false,
-        0,
-    );
+    let meshes: Vec<(String, Mesh)> = each_index(&d.positions, &d.triangles)
+        .into_iter()
+        .map(|(name, d)| (name, Mesh::new(Arc::new(d), true, 0)))
+        .collect();
     let mut hits = 0;
     for r in rays {
-        let tree = mesh.intersect(r, 1e-9, f64::INFINITY).map(|h| h.t);
         let want = brute(d, r);
-        assert_eq!(tree, want, "{r:?}");
-        assert_eq!(mesh.occludes(r, 1e-9, f64::INFINITY), want.is_some());
+        let mut first: Option<(u32, Hit)> = None;
+        for (name, mesh) in &meshes {
+            let found = mesh.data.nearest(r, 1e-9, f64::INFINITY);
+            assert_eq!(found.map(|h| h.0), want, "{name}: {r:?}");
+            let hit = mesh.intersect(r, 1e-9, f64::INFINITY);
+            assert_eq!(hit.map(|h| h.t), want, "{name}: {r:?}");
+            assert_eq!(
+                mesh.occludes(r, 1e-9, f64::INFINITY),
+                want.is_some(),
+                "{name}"
+            );
+            if let (Some((_, tri, _, _)), Some(h)) = (found, hit) {
+                match &first {
+                    None => first = Some((tri, h)),
+                    Some((t0, h0)) if *t0 == tri => {
+                        let same = (h0.t, h0.normal, h0.uv, h0.point, h0.p_error, h0.geo_normal)
+                            == (h.t, h.normal, h.uv, h.point, h.p_error, h.geo_normal);
+                        assert!(same, "{name}: {h:?} against {h0:?}");
+                    }
+                    Some(_) => {}
+                }
+            }
+        }
         hits += want.is_some() as usize;
     }
     hits
@@ -49,7 +86,7 @@ fn icosphere_is_closed_outward_and_round() {
     let d = sphere_mesh(3);
     assert_eq!(d.triangle_count(), 20 * 64);
     assert!(d.is_closed());
-    for p in &d.pre {
+    for p in &d.all_tris() {
         let centre = p.v0 + (p.e1() + p.e2()) / 3.0;
         assert!(p.normal().dot(centre) > 0.0, "inward triangle");
     }
@@ -69,7 +106,7 @@ fn silhouette_matches_the_analytic_sphere() {
     // Every triangle's plane is at least `inner` from the centre: inside
     // that radius every ray must hit, beyond radius 1 none may.
     let inner = d
-        .pre
+        .all_tris()
         .iter()
         .map(|p| p.normal().normalize().dot(p.v0))
         .fold(f64::INFINITY, f64::min);
@@ -126,8 +163,20 @@ fn tree_agrees_with_brute_force_on_a_sphere() {
 /// The Stanford bunny from the shared data folder: a missing one fails
 /// the test unless `RAYTRACE_SKIP_SHARED=1` (see `shared_data`).
 fn bunny() -> Option<MeshData> {
+    bunny_with(Accel::default())
+}
+
+fn bunny_with(accel: Accel) -> Option<MeshData> {
     let path = crate::shared_data::file("bunny.ply")?;
-    Some(MeshData::load(&path).unwrap_or_else(|e| panic!("{}: {e:?}", path.display())))
+    Some(MeshData::load_with(&path, accel).unwrap_or_else(|e| panic!("{}: {e:?}", path.display())))
+}
+
+/// The kd-tree of a mesh built with one.
+fn kd(d: &MeshData) -> &KdTree {
+    match &d.index {
+        Index::Kd(t) => t,
+        Index::Bvh(_) => panic!("the mesh has a BVH"),
+    }
 }
 
 #[test]
@@ -149,7 +198,9 @@ fn tree_agrees_with_brute_force_on_the_bunny() {
 #[test]
 fn bunny_rays_take_few_steps_and_tests() {
     let _watchdog = crate::watchdog::start();
-    let Some(d) = bunny() else { return };
+    let Some(d) = bunny_with(Accel::KdTree) else {
+        return;
+    };
     let mesh = Mesh::new(Arc::new(d), true, 0);
     let (shift, scale) = (DVec3::new(0.3368, -0.6597, 0.0308), 20.0);
     let local = |p: DVec3| (p - shift) / scale;
@@ -170,14 +221,12 @@ fn bunny_rays_take_few_steps_and_tests() {
             let dir = (forward + x * right + y * up).normalize() / scale;
             let ray = Ray::new(local(eye), dir);
             let mut best = f64::INFINITY;
-            mesh.data
-                .tree
-                .nearest(&ray, 1e-9, f64::INFINITY, |k, limit| {
-                    tests.set(tests.get() + 1);
-                    let (t, _, _) = mesh.data.pre[k as usize].hit(&ray, 1e-9, limit)?;
-                    best = t;
-                    Some(t)
-                });
+            kd(&mesh.data).nearest(&ray, 1e-9, f64::INFINITY, |k, limit| {
+                tests.set(tests.get() + 1);
+                let (t, _, _) = mesh.data.pre[k as usize].hit(&ray, 1e-9, limit)?;
+                best = t;
+                Some(t)
+            });
             rays += 1;
             steps += crate::accel::counters::take();
             if best.is_finite() {
@@ -185,7 +234,7 @@ fn bunny_rays_take_few_steps_and_tests() {
                 let p = ray.at(best);
                 let to_light = Ray::new(p, local(light) - p);
                 let before = tests.get();
-                mesh.data.tree.any(&to_light, 1e-6, 1.0, |k| {
+                kd(&mesh.data).any(&to_light, 1e-6, 1.0, |k| {
                     tests.set(tests.get() + 1);
                     mesh.data.pre[k as usize]
                         .hit(&to_light, 1e-6, 1.0)
@@ -199,7 +248,7 @@ fn bunny_rays_take_few_steps_and_tests() {
     }
     let primary_tests = tests.get() - shadow_tests;
     let per = |a: u64, b: u64| a as f64 / b.max(1) as f64;
-    let s = mesh.data.tree.stats;
+    let s = kd(&mesh.data).stats;
     eprintln!(
         "bunny tree: {} nodes, {} leaves ({} empty, max {}), {:.2} refs/triangle, depth {}; \
          camera rays: {hits}/{rays} hit, per hit {:.1} steps {:.1} tests; \
@@ -438,6 +487,16 @@ const GRID: u32 = 40;
 /// A flat 40 × 40 grid of squares of side 0.1 in z = 0, centred on the
 /// origin, each cut along a diagonal: its vertices and the mesh.
 fn flat_grid() -> (Vec<DVec3>, Mesh) {
+    let (pos, tris) = flat_grid_parts();
+    let mesh = Mesh::new(
+        Arc::new(MeshData::from_parts(pos.clone(), None, None, tris)),
+        false,
+        0,
+    );
+    (pos, mesh)
+}
+
+fn flat_grid_parts() -> (Vec<DVec3>, Vec<[u32; 3]>) {
     let n = GRID;
     let mut pos = Vec::new();
     for j in 0..=n {
@@ -453,15 +512,17 @@ fn flat_grid() -> (Vec<DVec3>, Mesh) {
             tris.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
         }
     }
-    let mesh = Mesh::new(
-        Arc::new(MeshData::from_parts(pos.clone(), None, None, tris)),
-        false,
-        0,
-    );
-    (pos, mesh)
+    (pos, tris)
 }
 
 fn check_watertight(d: Arc<MeshData>, seed: u64) {
+    for (name, built) in each_index(&d.positions, &d.triangles) {
+        eprintln!("{name}");
+        check_watertight_one(Arc::new(built), seed);
+    }
+}
+
+fn check_watertight_one(d: Arc<MeshData>, seed: u64) {
     let mesh = Mesh::new(d.clone(), false, 0);
     let tris: Vec<crate::shapes::Triangle> = (0..d.triangle_count())
         .map(|i| {
@@ -557,21 +618,28 @@ fn rays_at_vertices_and_edges_of_closed_meshes_always_hit() {
     check_watertight(boxed, 9);
 }
 
-/// The same flat grid through the kd-tree (`Mesh::intersect` and
-/// `occludes`): the walk must not lose a ray aimed at a vertex or an
+/// The same flat grid through the kd-tree and the BVH (`Mesh::intersect`
+/// and `occludes`): the walk must not lose a ray aimed at a vertex or an
 /// edge lying on one of its split planes, though the grid's box has no
-/// thickness and the planes are stored in f32.
+/// thickness and the planes (the BVH's boxes) are stored in f32.
 #[test]
-fn a_grid_has_no_cracks_through_its_kd_tree() {
+fn a_grid_has_no_cracks_through_either_index() {
     let _watchdog = crate::watchdog::start();
-    let (pos, mesh) = flat_grid();
+    let (pos, tris) = flat_grid_parts();
+    for (name, d) in each_index(&pos, &tris) {
+        let mesh = Mesh::new(Arc::new(d), false, 0);
+        grid_has_no_cracks(&pos, &mesh, &name);
+    }
+}
+
+fn grid_has_no_cracks(pos: &[DVec3], mesh: &Mesh, name: &str) {
     let (mut missed, mut unblocked, mut rays) = (0, 0, 0);
     for eye in [
         DVec3::new(0.3, -0.2, 5.0),
         DVec3::new(-1.7, 2.9, 3.0),
         DVec3::new(4.0, 0.05, -2.5),
     ] {
-        for &p in &pos {
+        for &p in pos {
             if p.x.abs() > 1.95 || p.y.abs() > 1.95 {
                 continue;
             }
@@ -588,13 +656,13 @@ fn a_grid_has_no_cracks_through_its_kd_tree() {
             }
         }
     }
-    assert_eq!((missed, unblocked), (0, 0), "of {rays} rays");
+    assert_eq!((missed, unblocked), (0, 0), "{name}: of {rays} rays");
 }
 
 /// A flat grid of triangles seen by rays through its vertices and the
 /// middles of its edges: the triangle test lets none through
 /// (Möller-Trumbore with inclusive bounds let 123 of 37,636 such pixels
-/// through). The kd-tree's walk: `a_grid_has_no_cracks_through_its_kd_tree`.
+/// through). The indexes' walks: `a_grid_has_no_cracks_through_either_index`.
 #[test]
 fn a_grid_has_no_cracks_at_its_vertices_and_edges() {
     let (pos, mesh) = flat_grid();
@@ -615,7 +683,7 @@ fn a_grid_has_no_cracks_at_its_vertices_and_edges() {
             let sheared = ShearedRay::new(&ray);
             let hit = mesh
                 .data
-                .pre
+                .all_tris()
                 .iter()
                 .any(|t| t.hit_sheared(&sheared, 0.0, f64::INFINITY).is_some());
             missed += !hit as usize;
@@ -629,9 +697,84 @@ fn a_grid_has_no_cracks_at_its_vertices_and_edges() {
         let sheared = ShearedRay::new(&ray);
         assert!(
             mesh.data
-                .pre
+                .all_tris()
                 .iter()
                 .any(|t| { t.hit_sheared(&sheared, 0.0, f64::INFINITY).is_some() })
         );
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(150))]
+
+    /// The kd-tree, the BVH (both paths) and brute force on random meshes
+    /// (flat triangles in x, y and z planes and degenerate ones among
+    /// them) and rays (some parallel to those planes, some leaving a
+    /// triangle's surface): the same nearest t, bit for bit, on a triangle
+    /// crossed there, and shadow rays that agree.
+    #[test]
+    fn kd_tree_bvh_and_brute_force_agree(
+        tris in prop::collection::vec(crate::accel::bvh::tests::triangle(), 1..60),
+        rays in prop::collection::vec(
+            (crate::accel::bvh::tests::point(), crate::accel::bvh::tests::direction()),
+            1..30,
+        ),
+        from_surface in prop::collection::vec(
+            (0usize..60, 0.0f64..0.5, 0.0f64..0.5, crate::accel::bvh::tests::direction()),
+            0..15,
+        ),
+    ) {
+        let pos: Vec<DVec3> = tris.iter().flatten().copied().collect();
+        let idx: Vec<[u32; 3]> = (0..tris.len() as u32).map(|i| [3 * i, 3 * i + 1, 3 * i + 2]).collect();
+        let mut all: Vec<(Ray, f64)> = rays.iter().map(|&(o, d)| (Ray::new(o * 2.0, d), 0.0)).collect();
+        for &(k, a, b, d) in &from_surface {
+            let t = tris[k % tris.len()];
+            all.push((Ray::new(t[0] + a * (t[1] - t[0]) + b * (t[2] - t[0]), d), 1e-9));
+        }
+        for (name, d) in each_index(&pos, &idx) {
+            let d = Arc::new(d);
+            let mesh = Mesh::new(d.clone(), false, 0);
+            for (ray, t_min) in &all {
+                // The kd-tree can lose a ray lying in a plane of a flat
+                // triangle's box (`kd_tree_loses_a_ray_along_a_box_face`):
+                // it is held to the rays off those planes only.
+                if d.accel() == Accel::KdTree && ray.dir.to_array().contains(&0.0) {
+                    continue;
+                }
+                let want = crate::accel::bvh::tests::brute(&tris, ray, *t_min, f64::INFINITY);
+                let got = d.nearest(ray, *t_min, f64::INFINITY);
+                prop_assert_eq!(got.map(|h| h.0.to_bits()), want.map(|h| h.0.to_bits()), "{}", name);
+                if let Some((t, tri, _, _)) = got {
+                    let own = d.tri(tri).hit(ray, *t_min, f64::INFINITY).map(|h| h.0);
+                    prop_assert_eq!(own, Some(t), "{}: triangle {} is not at t", name, tri);
+                }
+                prop_assert_eq!(mesh.occludes(ray, *t_min, f64::INFINITY), want.is_some(), "{}", name);
+            }
+        }
+    }
+}
+
+/// Found by `kd_tree_bvh_and_brute_force_agree`: a ray in the plane
+/// x = −2 of a flat triangle's edge (its box's face), which the watertight
+/// test hits on that edge, is lost by the mesh's kd-tree. The BVH finds
+/// it. Left for the kd-tree's owner; run with `--ignored`.
+#[test]
+#[ignore = "kd-tree bug: a ray lying in a box face of a flat triangle"]
+fn kd_tree_loses_a_ray_along_a_box_face() {
+    let tris = [[
+        DVec3::new(-2.0, -1.5, 0.0),
+        DVec3::new(0.0, 0.0, 0.0),
+        DVec3::new(-2.0, 0.0, 0.0),
+    ]];
+    let pos: Vec<DVec3> = tris[0].to_vec();
+    let ray = Ray::new(
+        DVec3::new(-2.0, -3.0, 2.0 * 0.9594917509319966),
+        DVec3::new(0.0, 1.0, -0.7793656324392497),
+    );
+    let want = crate::accel::bvh::tests::brute(&tris, &ray, 0.0, f64::INFINITY);
+    assert!(want.is_some());
+    for (name, d) in each_index(&pos, &[[0, 1, 2]]) {
+        let got = d.nearest(&ray, 0.0, f64::INFINITY).map(|h| h.0);
+        assert_eq!(got, want.map(|h| h.0), "{name}");
     }
 }

@@ -282,6 +282,17 @@ impl ShearedRay {
         }
     }
 
+    /// The prepared ray's parts, for tests that must do this arithmetic
+    /// several triangles at a time (the wide BVH's leaves): the origin,
+    /// the permutation `[kx, ky, kz]` and the shear `sx`, `sy`, `sz`.
+    pub fn parts(&self) -> (DVec3, [usize; 3], [f64; 3]) {
+        (
+            self.origin,
+            PERMS[self.perm as usize],
+            [self.sx, self.sy, self.sz],
+        )
+    }
+
     /// The line's crossing with triangle (v0, v1, v2), edges and corners
     /// included, at any t: `(t, [b0, b1, b2])` with the barycentric weights
     /// of the corners. `None` when the line misses, lies in the triangle's

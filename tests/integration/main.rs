@@ -1,5 +1,6 @@
 //! End-to-end tests: one binary (link once), one module per area.
 
+mod accel;
 mod adaptive;
 mod cli;
 mod csg;

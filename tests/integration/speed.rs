@@ -121,16 +121,36 @@ fn the_memory_line_counts_the_mesh_trees() {
          light { position <1, 2, 3> }\nmesh \"tet.obj\" { }\nsphere { centre <3, 0, 0> }\n",
     )
     .unwrap();
-    let o = render_to(&scene, &dir.path().join("out.png"), &["--stats"]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let s = stderr(&o);
-    let line = s
-        .lines()
-        .find(|l| l.trim_start().starts_with("memory"))
-        .unwrap();
-    // A tree of two items and one of four triangles: a few nodes (8 B)
-    // and item references (4 B) each, neither empty.
-    assert!(!line.contains("scene tree 0 B"), "{line}");
-    assert!(!line.contains("mesh trees 0 B"), "{line}");
-    assert!(line.contains(" B") || line.contains("KiB"), "{line}");
+    // Each structure counts its own bytes: the kd-trees' nodes (8 B) and
+    // item references (4 B), or the BVHs' wide nodes; the other's are 0.
+    for (accel, counted, unused) in [
+        (
+            "kdtree",
+            ["scene tree", "mesh trees"],
+            ["scene bvh", "mesh bvhs"],
+        ),
+        (
+            "bvh",
+            ["scene bvh", "mesh bvhs"],
+            ["scene tree", "mesh trees"],
+        ),
+    ] {
+        let o = render_to(
+            &scene,
+            &dir.path().join("out.png"),
+            &["--stats", "--accel", accel],
+        );
+        assert!(o.status.success(), "{}", stderr(&o));
+        let s = stderr(&o);
+        let line = s
+            .lines()
+            .find(|l| l.trim_start().starts_with("memory"))
+            .unwrap();
+        for name in counted {
+            assert!(!line.contains(&format!("{name} 0 B")), "{accel}: {line}");
+        }
+        for name in unused {
+            assert!(line.contains(&format!("{name} 0 B")), "{accel}: {line}");
+        }
+    }
 }

@@ -98,6 +98,11 @@ pub struct Checked {
 pub fn check(program: &Program, options: &crate::eval::Options) -> Checked {
     let transfer = find_transfer(&program.items);
     let mut b = Builder::new(program, transfer);
+    // Meshes are indexed as they load, so the choice is read first too.
+    b.scene.settings.accel = options
+        .accel
+        .or_else(|| find_accel(&program.items))
+        .unwrap_or_default();
     // Each part is built as soon as it is evaluated, so the evaluated
     // items of a long loop never all exist at once.
     let (eval_errors, bound) =
@@ -535,6 +540,22 @@ impl<'p> Builder<'p> {
 /// The output curve from `render { gamma … }`, found before anything else
 /// is built because it decides what `#rrggbb` and named colours mean.
 /// Mistakes are ignored here: the build reports them in place.
+/// `render { accel NAME }` read before the scene is built (a mistake in
+/// it is reported when the `render` block is).
+fn find_accel(items: &[Item]) -> Option<crate::accel::Accel> {
+    items.iter().enumerate().find_map(|(i, item)| {
+        item.as_name().filter(|n| n.node == "render")?;
+        let Some(Item::Block(b)) = items.get(i + 1) else {
+            return None;
+        };
+        let at = b
+            .items
+            .iter()
+            .position(|it| it.as_name().is_some_and(|n| n.node == "accel"))?;
+        crate::accel::Accel::from_name(b.items.get(at + 1)?.as_name()?.node)
+    })
+}
+
 fn find_transfer(items: &[Item]) -> Transfer {
     let mut env = Env::new(Transfer::Srgb);
     let mut quiet = Vec::new();

@@ -694,7 +694,7 @@ impl Builder<'_> {
         };
         let data = match self.meshes.get(&canonical) {
             Some(d) => d.clone(),
-            None => match MeshData::load(&canonical) {
+            None => match MeshData::load_with(&canonical, self.scene.settings.accel) {
                 Ok(d) => {
                     let d = Arc::new(d);
                     self.meshes.insert(canonical, d.clone());

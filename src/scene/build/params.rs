@@ -144,6 +144,7 @@ pub const RENDER: Schema = Schema {
             "`regular`, `random`, `jittered` or `multijittered`",
         ),
         spec("seed", 1, "a whole number"),
+        spec("accel", 1, "`bvh` or `kdtree`"),
         spec("adaptive", 1, "a block `{ threshold …  max_samples … }`"),
         spec("motion_blur", 1, "a whole number of sub-frames, 1 to 64"),
         spec(

@@ -204,6 +204,21 @@ impl Builder<'_> {
                 }
             }
         }
+        if let Some(q) = p.take("accel") {
+            // Already applied by `find_accel`; checked here for mistakes.
+            let name = q.values[0].as_name().map(|n| n.node);
+            if name.and_then(crate::accel::Accel::from_name).is_none() {
+                let names = crate::accel::Accel::NAMES;
+                let help = name
+                    .and_then(|n| did_you_mean(n, names))
+                    .unwrap_or_else(|| format!("the structures are {}", names.join(", ")));
+                self.err(
+                    Error::new(q.values[0].span(), "unknown acceleration structure")
+                        .label("expected `bvh` or `kdtree`")
+                        .help(help),
+                );
+            }
+        }
         if let Some(q) = p.take("seed")
             && let Some(n) = self.integer(&q.values[0], 0, u32::MAX)
         {

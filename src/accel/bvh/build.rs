@@ -1,0 +1,338 @@
+//! Building the wide BVH: a binary tree by the binned surface area
+//! heuristic (SAH), collapsed into 8-wide nodes.
+//!
+//! Binary build: the items' box centres are binned into 16 slabs on each
+//! axis; the cheapest plane of the 45 wins if it beats a leaf. A leaf costs
+//! its item tests, counted in whole groups of `group` (a mesh tests four
+//! triangles at once, so a leaf of 5 costs as much as one of 8). Items
+//! whose centres coincide (or a node past the size cap) are halved by
+//! index. The halves of big nodes are built in parallel (rayon).
+//!
+//! The build works on the items' boxes rounded outwards to `f32` (what
+//! the nodes store anyway): half the bytes to move and plain comparisons
+//! instead of `f64::min`'s NaN handling made it 2x faster.
+//!
+//! Collapse: each wide node takes its binary node's two children and opens
+//! the largest interior one in place of itself until it holds eight (the
+//! "SAH-greedy" collapse of Wald et al.; areas stand in for the costs).
+
+use super::node::{round_down, round_up};
+use crate::geometry::{Aabb, DVec3};
+
+/// Costs for the SAH, in units of one wide node's box test.
+#[derive(Clone, Copy, Debug)]
+pub struct BvhParams {
+    /// Cost of testing one group of items.
+    pub group_cost: f64,
+    /// Items tested together (4 for triangles, 1 for scene objects).
+    pub group: usize,
+    /// A leaf never holds more than this many items unless they cannot be
+    /// told apart (all the same box centre).
+    pub max_leaf: usize,
+}
+
+const BINS: usize = 16;
+/// Nodes with more items than this build their halves in parallel.
+const PARALLEL_ABOVE: usize = 4096;
+/// How deep the binary tree may go before nodes become leaves (the wide
+/// traversal stack holds 7 entries per level of the wide tree).
+pub(super) const MAX_BINARY_DEPTH: usize = 64;
+
+/// A node of the binary tree.
+pub(super) enum Binary {
+    Leaf {
+        bounds: Aabb,
+        items: Vec<u32>,
+    },
+    Inner {
+        bounds: Aabb,
+        children: Box<[Binary; 2]>,
+    },
+}
+
+impl Binary {
+    pub(super) fn bounds(&self) -> Aabb {
+        match self {
+            Binary::Leaf { bounds, .. } | Binary::Inner { bounds, .. } => *bounds,
+        }
+    }
+}
+
+/// A box in `f32`, as the nodes store it.
+#[derive(Clone, Copy, Debug)]
+struct Box32 {
+    lo: [f32; 3],
+    hi: [f32; 3],
+}
+
+impl Box32 {
+    const EMPTY: Box32 = Box32 {
+        lo: [f32::INFINITY; 3],
+        hi: [f32::NEG_INFINITY; 3],
+    };
+
+    #[inline(always)]
+    fn grow(&mut self, o: &Box32) {
+        for a in 0..3 {
+            self.lo[a] = if o.lo[a] < self.lo[a] {
+                o.lo[a]
+            } else {
+                self.lo[a]
+            };
+            self.hi[a] = if o.hi[a] > self.hi[a] {
+                o.hi[a]
+            } else {
+                self.hi[a]
+            };
+        }
+    }
+
+    /// Half the surface area, in `f64` (an `f32` square overflows from 1e19).
+    fn half_area(&self) -> f64 {
+        let e = [0, 1, 2].map(|a| self.hi[a] as f64 - self.lo[a] as f64);
+        e[0] * e[1] + e[1] * e[2] + e[2] * e[0]
+    }
+
+    /// The same box in `f64` (exactly: every `f32` is an `f64`).
+    fn aabb(&self) -> Aabb {
+        Aabb {
+            min: DVec3::from_array(self.lo.map(f64::from)),
+            max: DVec3::from_array(self.hi.map(f64::from)),
+        }
+    }
+}
+
+/// An item being placed: its index, box and box centre.
+#[derive(Clone, Copy)]
+struct Item {
+    id: u32,
+    b: Box32,
+    c: [f32; 3],
+}
+
+/// Builds the binary tree over the non-empty boxes; `None` when there are
+/// none.
+pub(super) fn binary(boxes: &[Aabb], params: BvhParams) -> Option<Binary> {
+    let items: Vec<Item> = boxes
+        .iter()
+        .enumerate()
+        .filter(|(_, b)| !b.is_empty())
+        .map(|(i, b)| {
+            let b = Box32 {
+                lo: b.min.to_array().map(round_down),
+                hi: b.max.to_array().map(round_up),
+            };
+            Item {
+                id: i as u32,
+                b,
+                c: [0, 1, 2].map(|a| 0.5 * b.lo[a] + 0.5 * b.hi[a]),
+            }
+        })
+        .collect();
+    if items.is_empty() {
+        return None;
+    }
+    Some(node(items, params, 0))
+}
+
+fn bounds_of(items: &[Item]) -> Box32 {
+    let mut b = Box32::EMPTY;
+    for i in items {
+        b.grow(&i.b);
+    }
+    b
+}
+
+fn leaf_cost(n: usize, p: &BvhParams) -> f64 {
+    n.div_ceil(p.group) as f64 * p.group_cost
+}
+
+fn leaf(items: Vec<Item>, bounds: Box32) -> Binary {
+    Binary::Leaf {
+        bounds: bounds.aabb(),
+        items: items.iter().map(|i| i.id).collect(),
+    }
+}
+
+fn node(mut items: Vec<Item>, p: BvhParams, depth: usize) -> Binary {
+    let bounds = bounds_of(&items);
+    let n = items.len();
+    if n <= 1 || depth >= MAX_BINARY_DEPTH {
+        return leaf(items, bounds);
+    }
+    let split = best_split(&items, &bounds, &p);
+    let cut = match split {
+        Some((axis, plane, cost)) => {
+            if cost >= leaf_cost(n, &p) && n <= p.max_leaf {
+                return leaf(items, bounds);
+            }
+            let mid = partition(&mut items, |i| i.c[axis] < plane);
+            if mid == 0 || mid == n { n / 2 } else { mid }
+        }
+        // Every centre the same: no plane separates them.
+        None => {
+            if n <= p.max_leaf {
+                return leaf(items, bounds);
+            }
+            n / 2
+        }
+    };
+    let right = items.split_off(cut);
+    let (l, r) = if n > PARALLEL_ABOVE {
+        rayon::join(|| node(items, p, depth + 1), || node(right, p, depth + 1))
+    } else {
+        (node(items, p, depth + 1), node(right, p, depth + 1))
+    };
+    Binary::Inner {
+        bounds: bounds.aabb(),
+        children: Box::new([l, r]),
+    }
+}
+
+/// Moves the items for which `left` holds to the front; returns their count.
+fn partition(items: &mut [Item], left: impl Fn(&Item) -> bool) -> usize {
+    let mut m = 0;
+    for k in 0..items.len() {
+        if left(&items[k]) {
+            items.swap(m, k);
+            m += 1;
+        }
+    }
+    m
+}
+
+/// The cheapest binned plane: `(axis, plane, cost)` with the cost in the
+/// units of [`BvhParams`] (one box test for this node plus each side's
+/// leaf cost weighted by its share of the area). `None` when every centre
+/// is the same point.
+fn best_split(items: &[Item], bounds: &Box32, p: &BvhParams) -> Option<(usize, f32, f64)> {
+    let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
+    for i in items {
+        for a in 0..3 {
+            lo[a] = if i.c[a] < lo[a] { i.c[a] } else { lo[a] };
+            hi[a] = if i.c[a] > hi[a] { i.c[a] } else { hi[a] };
+        }
+    }
+    let area = bounds.half_area();
+    let mut best: Option<(usize, f32, f64)> = None;
+    for axis in 0..3 {
+        let extent = hi[axis] - lo[axis];
+        if extent.is_nan() || extent <= 0.0 {
+            continue;
+        }
+        let scale = BINS as f32 / extent;
+        let bin = |c: f32| (((c - lo[axis]) * scale) as usize).min(BINS - 1);
+        let mut boxes = [Box32::EMPTY; BINS];
+        let mut counts = [0usize; BINS];
+        for i in items {
+            let k = bin(i.c[axis]);
+            boxes[k].grow(&i.b);
+            counts[k] += 1;
+        }
+        // Sweep from the right, then from the left.
+        let mut right_area = [0.0; BINS];
+        let mut right_count = [0usize; BINS];
+        let (mut acc, mut cnt) = (Box32::EMPTY, 0);
+        for k in (1..BINS).rev() {
+            acc.grow(&boxes[k]);
+            cnt += counts[k];
+            right_area[k] = if cnt > 0 { acc.half_area() } else { 0.0 };
+            right_count[k] = cnt;
+        }
+        let (mut acc, mut cnt) = (Box32::EMPTY, 0);
+        for k in 1..BINS {
+            acc.grow(&boxes[k - 1]);
+            cnt += counts[k - 1];
+            if cnt == 0 || right_count[k] == 0 {
+                continue;
+            }
+            let cost = 1.0
+                + (acc.half_area() * leaf_cost(cnt, p)
+                    + right_area[k] * leaf_cost(right_count[k], p))
+                    / area;
+            if best.is_none_or(|b| cost < b.2) {
+                best = Some((axis, lo[axis] + k as f32 / scale, cost));
+            }
+        }
+    }
+    // A flat node (zero area) makes every cost NaN or infinite: split it
+    // anyway on its longest centre spread.
+    if best.is_none_or(|b| !b.2.is_finite()) {
+        let axis = (0..3).max_by(|&a, &b| (hi[a] - lo[a]).total_cmp(&(hi[b] - lo[b])))?;
+        if hi[axis] <= lo[axis] || hi[axis].is_nan() || lo[axis].is_nan() {
+            return None;
+        }
+        return Some((axis, 0.5 * (lo[axis] + hi[axis]), f64::NEG_INFINITY));
+    }
+    best
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::DVec3;
+
+    fn count(b: &Binary) -> Vec<u32> {
+        match b {
+            Binary::Leaf { items, .. } => items.clone(),
+            Binary::Inner { children, .. } => {
+                let mut v = count(&children[0]);
+                v.extend(count(&children[1]));
+                v
+            }
+        }
+    }
+
+    const P: BvhParams = BvhParams {
+        group_cost: 1.0,
+        group: 4,
+        max_leaf: 8,
+    };
+
+    #[test]
+    fn every_item_once_and_boxes_nest() {
+        fn check(b: &Binary) {
+            if let Binary::Inner { bounds, children } = b {
+                for c in children.iter() {
+                    let cb = c.bounds();
+                    assert!(bounds.union(&cb) == *bounds);
+                    check(c);
+                }
+            }
+        }
+        let boxes: Vec<Aabb> = (0..1000)
+            .map(|i| {
+                let p = DVec3::new((i % 10) as f64, (i / 10 % 10) as f64, (i / 100) as f64);
+                Aabb::new(p, p + DVec3::splat(0.5))
+            })
+            .collect();
+        let tree = binary(&boxes, P).unwrap();
+        let mut ids = count(&tree);
+        ids.sort();
+        assert_eq!(ids, (0..1000).collect::<Vec<_>>());
+        check(&tree);
+    }
+
+    #[test]
+    fn identical_boxes_split_by_index_down_to_the_cap() {
+        let boxes = vec![Aabb::new(DVec3::ZERO, DVec3::ONE); 100];
+        let tree = binary(&boxes, P).unwrap();
+        fn leaves(b: &Binary, out: &mut Vec<usize>) {
+            match b {
+                Binary::Leaf { items, .. } => out.push(items.len()),
+                Binary::Inner { children, .. } => children.iter().for_each(|c| leaves(c, out)),
+            }
+        }
+        let mut sizes = Vec::new();
+        leaves(&tree, &mut sizes);
+        assert_eq!(sizes.iter().sum::<usize>(), 100);
+        assert!(sizes.iter().all(|&s| s <= 8), "{sizes:?}");
+    }
+
+    #[test]
+    fn empty_boxes_are_left_out() {
+        assert!(binary(&[Aabb::EMPTY], P).is_none());
+        let t = binary(&[Aabb::EMPTY, Aabb::new(DVec3::ZERO, DVec3::ONE)], P).unwrap();
+        assert_eq!(count(&t), vec![1]);
+    }
+}

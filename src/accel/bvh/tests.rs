@@ -1,0 +1,285 @@
+//! The wide BVH against brute force (the kd-tree joins in
+//! `shapes::mesh`'s tests, with the mesh's own clipped tree): the same nearest hit
+//! (t bit for bit, and a triangle at that t), any-hit agreeing with
+//! nearest, on random meshes and rays, on both the AVX2 and the scalar
+//! path.
+
+use super::*;
+use crate::geometry::DVec3;
+use proptest::prelude::*;
+
+pub(crate) type Tri = [DVec3; 3];
+
+/// Brute force: the first triangle in index order at the least t.
+pub(crate) fn brute(tris: &[Tri], ray: &Ray, t_min: f64, t_max: f64) -> Option<(f64, u32)> {
+    let s = ShearedRay::new(ray);
+    let mut best: Option<(f64, u32)> = None;
+    let mut limit = t_max;
+    for (i, t) in tris.iter().enumerate() {
+        if let Some((th, _)) = s.triangle(t[0], t[1], t[2])
+            && th > t_min
+            && th < limit
+        {
+            limit = th;
+            best = Some((th, i as u32));
+        }
+    }
+    best
+}
+
+/// The BVH on each path it can run here.
+fn paths(tris: &[Tri]) -> Vec<TriangleBvh> {
+    let mut out = Vec::new();
+    for simd in [Simd::Scalar, Simd::Avx2] {
+        let mut b = TriangleBvh::build(tris);
+        b.set_simd(simd);
+        if b.bvh.simd == simd {
+            out.push(b);
+        }
+    }
+    out
+}
+
+/// `got` is the nearest hit `want`: the same t, and a triangle that is
+/// crossed at that t (two triangles sharing an edge tie).
+fn same_hit(
+    tris: &[Tri],
+    ray: &Ray,
+    got: Option<(f64, u32)>,
+    want: Option<(f64, u32)>,
+) -> Result<(), String> {
+    match (got, want) {
+        (None, None) => Ok(()),
+        (Some((tg, ig)), Some((tw, iw))) => {
+            let s = ShearedRay::new(ray);
+            let t = &tris[ig as usize];
+            let own = s.triangle(t[0], t[1], t[2]).map(|h| h.0);
+            if tg.to_bits() == tw.to_bits() && (ig == iw || own == Some(tw)) {
+                Ok(())
+            } else {
+                Err(format!(
+                    "got t {tg} on {ig} (its own t {own:?}), want t {tw} on {iw}"
+                ))
+            }
+        }
+        _ => Err(format!("got {got:?}, want {want:?}")),
+    }
+}
+
+fn check_all(tris: &[Tri], rays: &[(Ray, f64, f64)]) -> Result<(), String> {
+    let bvhs = paths(tris);
+    for (ray, t_min, t_max) in rays {
+        let want = brute(tris, ray, *t_min, *t_max);
+        let s = ShearedRay::new(ray);
+        for b in &bvhs {
+            let got = b.nearest(ray, &s, *t_min, *t_max);
+            same_hit(tris, ray, got, want)
+                .map_err(|e| format!("{:?} bvh, ray {ray:?}: {e}", b.bvh.simd))?;
+            if b.any(ray, &s, *t_min, *t_max) != want.is_some() {
+                return Err(format!(
+                    "{:?} any-hit disagrees with nearest {want:?}",
+                    b.bvh.simd
+                ));
+            }
+            let mut line: Vec<u32> = Vec::new();
+            b.along_line(ray, &s, |_, i| line.push(i));
+            line.sort();
+            let mut all: Vec<u32> = (0..tris.len() as u32)
+                .filter(|&i| {
+                    let t = &tris[i as usize];
+                    s.triangle(t[0], t[1], t[2]).is_some()
+                })
+                .collect();
+            all.sort();
+            if line != all {
+                return Err(format!("{:?} along_line {line:?} want {all:?}", b.bvh.simd));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Coordinates from a coarse grid (so that corners, edges and planes are
+/// shared exactly) or anywhere.
+fn coord() -> impl Strategy<Value = f64> {
+    prop_oneof![(-4i32..=4).prop_map(|k| k as f64 * 0.5), -2.0f64..2.0]
+}
+
+pub(crate) fn point() -> impl Strategy<Value = DVec3> {
+    (coord(), coord(), coord()).prop_map(|(x, y, z)| DVec3::new(x, y, z))
+}
+
+/// Triangles: general, flat in an x, y or z plane, or degenerate (a
+/// repeated corner, or a point).
+pub(crate) fn triangle() -> impl Strategy<Value = Tri> {
+    prop_oneof![
+        4 => [point(), point(), point()],
+        2 => (0usize..3, coord(), [point(), point(), point()]).prop_map(|(a, c, mut t)| {
+            for v in &mut t {
+                v[a] = c;
+            }
+            t
+        }),
+        // A repeated corner: exactly no area. (A sliver whose corners
+        // are only nearly in line is not degenerate to the f64 test, and
+        // its t can then lie off the triangle's own box, where no box
+        // structure could promise to look.)
+        1 => (point(), point()).prop_map(|(a, b)| [a, b, a]),
+        1 => point().prop_map(|a| [a, a, a]),
+    ]
+}
+
+/// Directions: general, or with one or two components zero (parallel to
+/// the flat triangles' planes).
+pub(crate) fn direction() -> impl Strategy<Value = DVec3> {
+    (point(), 0u8..4).prop_map(|(d, zero)| {
+        let mut d = d;
+        match zero {
+            1 => d.x = 0.0,
+            2 => {
+                d.y = 0.0;
+                d.z = 0.0;
+            }
+            _ => {}
+        }
+        if d == DVec3::ZERO { DVec3::Z } else { d }
+    })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 300, ..ProptestConfig::default() })]
+
+    #[test]
+    fn nearest_agrees_with_brute_force(
+        tris in prop::collection::vec(triangle(), 1..80),
+        rays in prop::collection::vec((point(), direction()), 1..40),
+        on_surface in prop::collection::vec((0usize..80, 0.0f64..1.0, 0.0f64..1.0, direction()), 0..20),
+    ) {
+        let mut all: Vec<(Ray, f64, f64)> = rays
+            .iter()
+            .map(|&(o, d)| (Ray::new(o * 2.0, d), 0.0, f64::INFINITY))
+            .collect();
+        // Rays leaving a point on a triangle, as secondary rays do.
+        for &(k, a, b, d) in &on_surface {
+            let t = tris[k % tris.len()];
+            let (a, b) = if a + b > 1.0 { (1.0 - a, 1.0 - b) } else { (a, b) };
+            let p = t[0] + a * (t[1] - t[0]) + b * (t[2] - t[0]);
+            all.push((Ray::new(p, d), 1e-9, f64::INFINITY));
+            all.push((Ray::new(p, d), 0.0, 1.5));
+        }
+        check_all(&tris, &all).map_err(TestCaseError::fail)?;
+    }
+}
+
+#[test]
+fn one_triangle() {
+    let tris = [[DVec3::ZERO, DVec3::X, DVec3::Y]];
+    let b = TriangleBvh::build(&tris);
+    assert_eq!(b.stats().leaves, 1);
+    let ray = Ray::new(DVec3::new(0.25, 0.25, 1.0), -DVec3::Z);
+    let s = ShearedRay::new(&ray);
+    assert_eq!(b.nearest(&ray, &s, 0.0, f64::INFINITY), Some((1.0, 0)));
+    assert_eq!(b.nearest(&ray, &s, 0.0, 1.0), None);
+    let miss = Ray::new(DVec3::new(0.75, 0.75, 1.0), -DVec3::Z);
+    assert_eq!(
+        b.nearest(&miss, &ShearedRay::new(&miss), 0.0, f64::INFINITY),
+        None
+    );
+}
+
+#[test]
+fn no_triangles_and_only_degenerate_ones() {
+    let ray = Ray::new(DVec3::new(0.1, 0.1, 1.0), -DVec3::Z);
+    let s = ShearedRay::new(&ray);
+    let b = TriangleBvh::build(&[]);
+    assert_eq!(b.nearest(&ray, &s, 0.0, f64::INFINITY), None);
+    let p = DVec3::new(0.1, 0.1, 0.0);
+    let b = TriangleBvh::build(&[[p, p, p]; 5]);
+    assert_eq!(b.nearest(&ray, &s, 0.0, f64::INFINITY), None);
+}
+
+#[test]
+fn identical_triangles_all_found() {
+    let t = [DVec3::ZERO, DVec3::X, DVec3::Y];
+    let tris = vec![t; 1000];
+    for b in paths(&tris) {
+        // No plane separates them: they are halved by index down to
+        // leaves of at most eight.
+        assert!(b.stats().slots <= 1024 && b.stats().leaves >= 125);
+        let ray = Ray::new(DVec3::new(0.2, 0.2, -3.0), DVec3::Z);
+        let s = ShearedRay::new(&ray);
+        let got = b.nearest(&ray, &s, 0.0, f64::INFINITY);
+        same_hit(&tris, &ray, got, brute(&tris, &ray, 0.0, f64::INFINITY)).unwrap();
+        let mut n = 0;
+        b.along_line(&ray, &s, |_, _| n += 1);
+        assert_eq!(n, 1000);
+    }
+}
+
+#[test]
+fn huge_and_tiny_coordinates() {
+    for scale in [1e-30, 1e-8, 1.0, 1e8, 1e30] {
+        let tris: Vec<Tri> = (0..50)
+            .map(|i| {
+                let o = DVec3::new(i as f64, (i * 7 % 11) as f64, (i * 3 % 5) as f64) * scale;
+                [o, o + DVec3::X * scale, o + DVec3::Y * scale]
+            })
+            .collect();
+        let rays: Vec<(Ray, f64, f64)> = (0..50)
+            .map(|i| {
+                let target = tris[i][0] + DVec3::new(0.3, 0.3, 0.0) * scale;
+                let o = target + DVec3::new(0.1, -0.2, 2.0) * scale;
+                (Ray::new(o, target - o), 0.0, f64::INFINITY)
+            })
+            .collect();
+        check_all(&tris, &rays).unwrap_or_else(|e| panic!("scale {scale}: {e}"));
+        // Every ray aims at a triangle: it must find one.
+        let b = TriangleBvh::build(&tris);
+        for (r, _, _) in &rays {
+            assert!(
+                b.nearest(r, &ShearedRay::new(r), 0.0, f64::INFINITY)
+                    .is_some()
+            );
+        }
+    }
+}
+
+#[test]
+fn the_box_test_is_conservative_at_grazing_angles() {
+    // Thin triangles met edge-on and rays barely tilted off an axis: the
+    // f32 boxes must never lose what the f64 test finds.
+    let mut tris = Vec::new();
+    for i in 0..200 {
+        let x = i as f64 * 0.01;
+        tris.push([
+            DVec3::new(x, 0.0, 0.0),
+            DVec3::new(x, 1.0, 0.0),
+            DVec3::new(x, 0.0, 1.0),
+        ]);
+        tris.push([
+            DVec3::new(0.0, x, 0.0),
+            DVec3::new(1.0, x, 1e-7),
+            DVec3::new(0.0, x, 1.0),
+        ]);
+    }
+    let mut rays = Vec::new();
+    for i in 0..400 {
+        let f = i as f64 / 400.0;
+        rays.push((
+            Ray::new(DVec3::new(-1.0, f, 0.5), DVec3::new(1.0, 1e-9 * f, 0.0)),
+            0.0,
+            f64::INFINITY,
+        ));
+        rays.push((
+            Ray::new(DVec3::new(f, -1.0, 0.5), DVec3::new(0.0, 1.0, 1e-12)),
+            0.0,
+            f64::INFINITY,
+        ));
+        rays.push((
+            Ray::new(DVec3::new(f * 2.0, f, 0.5), DVec3::new(-1.0, 0.0, 0.0)),
+            1e-9,
+            f64::INFINITY,
+        ));
+    }
+    check_all(&tris, &rays).unwrap();
+}
