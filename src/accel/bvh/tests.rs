@@ -283,3 +283,63 @@ fn the_box_test_is_conservative_at_grazing_angles() {
     }
     check_all(&tris, &rays).unwrap();
 }
+
+/// The box query finds every item whose box meets the query box (a
+/// superset is allowed: boxes are stored rounded outwards), skips the
+/// padding, and stops when told to.
+#[test]
+fn overlapping_finds_every_box_that_meets_the_query() {
+    let mut seed = 0x5eed_u64;
+    let mut next = move || {
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let boxes: Vec<Aabb> = (0..500)
+        .map(|_| {
+            let c = DVec3::new(next(), next(), next()) * 20.0 - 10.0;
+            let h = DVec3::new(next(), next(), next()) * 0.8;
+            Aabb::new(c - h, c + h)
+        })
+        .collect();
+    for params in [
+        BvhParams {
+            group_cost: 4.0,
+            group: 1,
+            max_leaf: 4,
+        },
+        BvhParams {
+            group_cost: 1.0,
+            group: 4,
+            max_leaf: 8,
+        },
+    ] {
+        let bvh = Bvh::build(&boxes, params);
+        for _ in 0..200 {
+            let c = DVec3::new(next(), next(), next()) * 24.0 - 12.0;
+            let h = DVec3::new(next(), next(), next()) * 3.0;
+            let q = Aabb::new(c - h, c + h);
+            let mut seen = vec![false; boxes.len()];
+            assert!(bvh.overlapping(&q, |i| {
+                seen[i as usize] = true;
+                true
+            }));
+            for (i, b) in boxes.iter().enumerate() {
+                let meets = b.min.cmple(q.max).all() && b.max.cmpge(q.min).all();
+                assert!(
+                    !meets || seen[i],
+                    "box {i} meets the query but was not visited"
+                );
+            }
+        }
+        // Stopping: the first visit that says no ends the query.
+        let all = Aabb::new(DVec3::splat(-20.0), DVec3::splat(20.0));
+        let mut visits = 0;
+        assert!(!bvh.overlapping(&all, |_| {
+            visits += 1;
+            visits < 3
+        }));
+        assert_eq!(visits, 3);
+    }
+}
