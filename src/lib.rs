@@ -422,7 +422,7 @@ fn print_stats(
     }
     let mem = &a.memory;
     eprintln!(
-        "  memory   {:>10}  (scene tree {}, scene bvh {}, mesh trees {}, mesh bvhs {})",
+        "  memory   {:>10}  (scene tree {}, scene BVH {}, mesh trees {}, mesh BVHs {})",
         bytes(mem.total()),
         bytes(mem.scene_tree),
         bytes(mem.scene_bvh),

@@ -127,11 +127,11 @@ fn the_memory_line_counts_the_mesh_trees() {
         (
             "kdtree",
             ["scene tree", "mesh trees"],
-            ["scene bvh", "mesh bvhs"],
+            ["scene BVH", "mesh BVHs"],
         ),
         (
             "bvh",
-            ["scene bvh", "mesh bvhs"],
+            ["scene BVH", "mesh BVHs"],
             ["scene tree", "mesh trees"],
         ),
     ] {
