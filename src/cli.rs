@@ -59,9 +59,10 @@ pub struct Args {
     pub height: Option<u32>,
 
     /// The acceleration structure for meshes and the scene's objects:
-    /// `bvh` (the wide BVH, the default) or `kdtree` (overrides the
-    /// scene's `render { accel }`).
-    #[arg(long, value_name = "kdtree|bvh", value_parser = clap::builder::PossibleValuesParser::new(crate::accel::Accel::NAMES))]
+    /// `auto` (the default: the wide BVH for meshes, the kd-tree for the
+    /// scene's objects), `bvh` or `kdtree` for both (overrides the scene's
+    /// `render { accel }`).
+    #[arg(long, value_name = "auto|kdtree|bvh", value_parser = clap::builder::PossibleValuesParser::new(crate::accel::Accel::NAMES))]
     pub accel: Option<String>,
 
     /// Antialiasing: N × N rays per pixel, 1 to 16 (overrides the scene's

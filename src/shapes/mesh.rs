@@ -167,7 +167,8 @@ impl MeshData {
         let corner = |t: &[u32; 3], k: usize| positions[t[k] as usize];
         let pre: Vec<TriPre> = match accel {
             Accel::KdTree => triangles.iter().map(|t| tri_pre(&positions, t)).collect(),
-            Accel::Bvh => Vec::new(),
+            // Auto: the BVH for a mesh's triangles.
+            Accel::Bvh | Accel::Auto => Vec::new(),
         };
         let build = || match accel {
             Accel::KdTree => {
@@ -183,7 +184,7 @@ impl MeshData {
                 crate::accel::record_mesh_tree(&tree.stats);
                 Index::Kd(tree)
             }
-            Accel::Bvh => {
+            Accel::Bvh | Accel::Auto => {
                 let corners: Vec<[DVec3; 3]> = triangles
                     .iter()
                     .map(|t| [0, 1, 2].map(|k| corner(t, k)))

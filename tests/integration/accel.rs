@@ -62,6 +62,17 @@ fn the_scene_chooses_and_the_command_line_overrides() {
     assert!(!stderr(&o).contains("mesh bvh"), "{}", stderr(&o));
     let o = render_to(&path, &out, &["--stats", "--accel", "bvh"]);
     assert!(stderr(&o).contains("mesh bvh"), "{}", stderr(&o));
+    // The default, `auto`: the BVH for the meshes, the kd-tree for the
+    // scene's objects.
+    let (dir, path) = scene_file(&scene(""));
+    let o = render_to(&path, &dir.path().join("a.png"), &["--stats"]);
+    let e = stderr(&o);
+    assert!(e.contains("mesh bvh"), "{e}");
+    assert!(
+        e.contains("scene BVH 0 B") && e.contains("mesh trees 0 B"),
+        "{e}"
+    );
+    assert!(!e.contains("scene tree 0 B"), "{e}");
 }
 
 #[test]
