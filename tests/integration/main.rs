@@ -13,6 +13,7 @@ mod golden;
 mod hostile;
 mod lang;
 mod looks;
+mod many;
 mod material_parts;
 mod media;
 mod mesh;
