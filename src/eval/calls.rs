@@ -113,7 +113,11 @@ impl Expander<'_> {
                 }
             };
             shown.push((p.name.node.clone(), v.clone()));
-            scope.bind(&p.name.node, Binding::Value(Some(v)), Some(p.name.span));
+            scope.bind(
+                p.name.node.as_str(),
+                Binding::Value(Some(v)),
+                Some(p.name.span),
+            );
         }
         Some((
             scope,

@@ -124,3 +124,21 @@ fn mistakes_point_at_their_characters() {
     let e = eval("10 ^ 400").unwrap_err();
     assert!(e[0].message.contains("finite"));
 }
+
+#[test]
+fn numeric_builtins_take_at_most_three_arguments_and_use_each() {
+    // `call` reads numeric arguments into a [f64; 3]: a built-in with more
+    // would not fit. Each place must still reach the maths.
+    assert!(FUNCTIONS.iter().all(|(_, arity)| *arity <= 3));
+    assert!(matches!(eval("clamp(5, 1, 3)"), Ok(Value::Number(x)) if x == 3.0));
+    assert!(matches!(eval("min(4, 2)"), Ok(Value::Number(x)) if x == 2.0));
+    assert!(
+        matches!(eval("atan2(1, 0)"), Ok(Value::Number(x)) if (x - std::f64::consts::FRAC_PI_2).abs() < 1e-12)
+    );
+    let Ok(Value::Colour(c)) = eval("rgb(0.25, 0.5, 1)") else {
+        panic!("rgb is a colour")
+    };
+    assert_eq!(c, Colour::new(0.25, 0.5, 1.0));
+    let e = eval("rgb(0.5, -1, 0)").unwrap_err();
+    assert!(e[0].message.contains("cannot be negative"));
+}

@@ -116,19 +116,21 @@ impl Expander<'_> {
                 None => return,
             },
         };
+        // One copy of the name for every iteration's scope and trace.
+        let name: Arc<str> = Arc::from(var.node.as_str());
         for v in values {
             if self.stopped.get() {
                 return;
             }
             let inner = scope.child();
             let trace = self.push(Frame::Loop {
-                var: var.node.clone(),
+                var: name.clone(),
                 value: v.clone(),
                 at: span,
             });
-            inner.bind(&var.node, Binding::Value(Some(v)), Some(var.span));
+            inner.bind(name.clone(), Binding::Value(Some(v)), Some(var.span));
             let before = errors.len();
-            let mut made = Vec::new();
+            let mut made = Vec::with_capacity(body.items.len());
             self.expand(&body.items, &inner, false, &mut made, errors);
             self.pop();
             if !made.is_empty() {

@@ -237,7 +237,7 @@ pub fn evaluate_in_parts_bound(
         .iter()
         .filter_map(|(name, b, span)| match (b, span) {
             (Binding::Value(v), Some(span)) => Some(TopLevel {
-                name: name.clone(),
+                name: name.to_string(),
                 span: *span,
                 value: v.clone(),
             }),
@@ -528,7 +528,7 @@ impl<'p> Expander<'p> {
                         }
                         None => self.value(value, scope, errors),
                     };
-                    scope.bind(&name.node, Binding::Value(v), Some(name.span));
+                    scope.bind(name.node.as_str(), Binding::Value(v), Some(name.span));
                 }
                 Item::LetItems {
                     name, items: body, ..
@@ -545,7 +545,7 @@ impl<'p> Expander<'p> {
                             span: name.span,
                         }))
                     });
-                    scope.bind(&name.node, Binding::Value(v), Some(name.span));
+                    scope.bind(name.node.as_str(), Binding::Value(v), Some(name.span));
                 }
                 Item::Fn(def) => {
                     if !self.may_bind(&def.name, scope, errors) {
@@ -555,7 +555,7 @@ impl<'p> Expander<'p> {
                         self.remember(&p.name.node);
                     }
                     scope.bind(
-                        &def.name.node,
+                        def.name.node.as_str(),
                         Binding::Function(def.clone(), scope.clone()),
                         Some(def.name.span),
                     );
@@ -611,7 +611,7 @@ impl<'p> Expander<'p> {
                 }
                 Item::Block(b) => {
                     let mut inner = Vec::with_capacity(b.items.len());
-                    self.expand(&b.items, &scope.child(), false, &mut inner, errors);
+                    self.expand(&b.items, &block_scope(scope, b), false, &mut inner, errors);
                     out.push(Item::Block(Block {
                         items: inner,
                         span: b.span,
@@ -684,7 +684,7 @@ impl<'p> Expander<'p> {
                             Some(b) => {
                                 self.expand(
                                     &b.items,
-                                    &scope.child(),
+                                    &block_scope(scope, b),
                                     false,
                                     &mut placement,
                                     errors,
@@ -817,7 +817,7 @@ impl<'p> Expander<'p> {
     ) -> Placed {
         if let Some(b) = next_block.filter(|_| object) {
             let mut inner = items.to_vec();
-            self.expand(&b.items, &scope.child(), false, &mut inner, errors);
+            self.expand(&b.items, &block_scope(scope, b), false, &mut inner, errors);
             out.push(Item::Value(Expr {
                 kind: ExprKind::Name("group".into()),
                 span: name.span,
@@ -906,6 +906,18 @@ impl<'p> Expander<'p> {
         };
         Expr { kind, span: e.span }
     }
+}
+
+/// The scope for a block's items: a child of `scope` when the block binds
+/// names of its own (`let`, `fn`), otherwise `scope` itself. A block that
+/// binds nothing sees exactly the same names either way, and an object's
+/// block (two per sphere in a 100,000-sphere loop) then costs no scope.
+fn block_scope(scope: &Rc<Scope>, b: &Block) -> Rc<Scope> {
+    let binds = b
+        .items
+        .iter()
+        .any(|i| matches!(i, Item::Let { .. } | Item::LetItems { .. } | Item::Fn(_)));
+    if binds { scope.child() } else { scope.clone() }
 }
 
 /// Whether the last item made is a name or string, so that what follows is

@@ -11,11 +11,16 @@ pub(super) enum Binding {
     Function(Arc<FnDef>, Rc<Scope>),
 }
 
+/// A name, what it is bound to and where (none for built-ins).
+pub(super) type Bound = (Arc<str>, Binding, Option<Span>);
+
 /// One block's names; lookups go outwards. A block binds few names, so a
 /// list searched from the end is cheaper than a hash map (a loop makes one
 /// scope per iteration).
 pub(super) struct Scope {
-    pub(super) vars: RefCell<Vec<(String, Binding, Option<Span>)>>,
+    /// Names are shared strings: a loop binds its variable once per
+    /// iteration, and a shared name costs no allocation each time.
+    pub(super) vars: RefCell<Vec<Bound>>,
     pub(super) parent: Option<Rc<Scope>>,
 }
 
@@ -34,14 +39,20 @@ impl Scope {
         })
     }
 
-    pub(super) fn bind(&self, name: &str, b: Binding, span: Option<Span>) {
-        self.vars.borrow_mut().push((name.to_string(), b, span));
+    pub(super) fn bind(&self, name: impl Into<Arc<str>>, b: Binding, span: Option<Span>) {
+        self.vars.borrow_mut().push((name.into(), b, span));
     }
 
     pub(super) fn get(&self, name: &str) -> Option<Binding> {
         let mut s = Some(self);
         while let Some(scope) = s {
-            if let Some((_, b, _)) = scope.vars.borrow().iter().rev().find(|(n, ..)| n == name) {
+            if let Some((_, b, _)) = scope
+                .vars
+                .borrow()
+                .iter()
+                .rev()
+                .find(|(n, ..)| **n == *name)
+            {
                 return Some(b.clone());
             }
             s = scope.parent.as_deref();
@@ -54,13 +65,18 @@ impl Scope {
         self.vars
             .borrow()
             .iter()
-            .find(|(n, ..)| n == name)
+            .find(|(n, ..)| **n == *name)
             .map(|(.., s)| *s)
     }
 
     /// Every name visible here (for suggestions).
     pub(super) fn names(&self) -> Vec<String> {
-        let mut v: Vec<String> = self.vars.borrow().iter().map(|(n, ..)| n.clone()).collect();
+        let mut v: Vec<String> = self
+            .vars
+            .borrow()
+            .iter()
+            .map(|(n, ..)| n.to_string())
+            .collect();
         if let Some(p) = &self.parent {
             v.extend(p.names());
         }
@@ -75,10 +91,10 @@ impl Scope {
         while let Some(scope) = s {
             for (k, b, _) in scope.vars.borrow().iter() {
                 if let Binding::Value(Some(Value::Number(v))) = b
-                    && !matches!(k.as_str(), "x" | "y" | "z")
-                    && !out.iter().any(|(n, _)| n == k)
+                    && !matches!(&**k, "x" | "y" | "z")
+                    && !out.iter().any(|(n, _)| **n == **k)
                 {
-                    out.push((k.clone(), *v));
+                    out.push((k.to_string(), *v));
                 }
             }
             s = scope.parent.as_deref();

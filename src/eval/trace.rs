@@ -15,7 +15,8 @@ pub struct Trace {
 #[derive(Debug, PartialEq)]
 pub(super) enum Frame {
     Loop {
-        var: String,
+        /// Shared by every iteration of the loop.
+        var: Arc<str>,
         value: Value,
         at: Span,
     },

@@ -16,6 +16,7 @@ mod integrator;
 mod lang;
 mod looks;
 mod lsp;
+mod many;
 mod material_parts;
 mod media;
 mod mesh;

@@ -8,6 +8,7 @@ use super::objects;
 use crate::eval::expr::Env;
 use crate::lang::ast::{Block, Item, Span, Spanned};
 use crate::lang::diagnostics::{Error, did_you_mean};
+use std::borrow::Cow;
 
 /// One parameter a block accepts.
 #[derive(Debug)]
@@ -382,13 +383,18 @@ pub fn read(
             );
             continue;
         }
-        let (name, pending) = if let Some(n) = item.as_name() {
-            (Spanned::new(n.node.to_string(), n.span), None)
+        // The name as written, borrowed from the item when it is a bare
+        // name (the common case): one String per parameter, not two.
+        let (name, pending): (Spanned<Cow<str>>, _) = if let Some(n) = item.as_name() {
+            (Spanned::new(Cow::Borrowed(n.node), n.span), None)
         } else if let Item::Value(e) = item
             && let Some((n, rest)) = e.split_leading_name()
             && schema.get(canonical(&n.node)).is_some()
         {
-            (n, Some(Item::Value(rest)))
+            (
+                Spanned::new(Cow::Owned(n.node), n.span),
+                Some(Item::Value(rest)),
+            )
         } else {
             let mut e = Error::new(
                 item.span(),
@@ -423,7 +429,7 @@ pub fn read(
         {
             i += 1;
             out.children.push(Child {
-                kw: name.clone(),
+                kw: Spanned::new(name.node.to_string(), name.span),
                 string: None,
                 block: b.clone(),
                 trace: trace_at(i - 2),
@@ -486,7 +492,8 @@ pub fn read(
             }
             continue;
         };
-        let mut values: Vec<Item> = pending.into_iter().collect();
+        let mut values: Vec<Item> = Vec::with_capacity(spec.arity.max(1));
+        values.extend(pending);
         // A declared material's name is `material`'s value even when it
         // is also a keyword (`material mirror`).
         let material_name = |it: &Item| {
