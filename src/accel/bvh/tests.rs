@@ -113,13 +113,27 @@ pub(crate) fn point() -> impl Strategy<Value = DVec3> {
 /// repeated corner, or a point).
 pub(crate) fn triangle() -> impl Strategy<Value = Tri> {
     prop_oneof![
-        4 => [point(), point(), point()],
-        2 => (0usize..3, coord(), [point(), point(), point()]).prop_map(|(a, c, mut t)| {
-            for v in &mut t {
-                v[a] = c;
-            }
-            t
+        4 => [point(), point(), point()].prop_filter("corners in line but apart", |t| {
+            (t[1] - t[0]).cross(t[2] - t[0]) != DVec3::ZERO
+                || t[0] == t[1]
+                || t[1] == t[2]
+                || t[0] == t[2]
         }),
+        // (Not with its corners exactly in line but apart: that is the
+        // sliver below, which the grid makes often.)
+        2 => (0usize..3, coord(), [point(), point(), point()])
+            .prop_map(|(a, c, mut t)| {
+                for v in &mut t {
+                    v[a] = c;
+                }
+                t
+            })
+            .prop_filter("corners in line but apart", |t| {
+                (t[1] - t[0]).cross(t[2] - t[0]) != DVec3::ZERO
+                    || t[0] == t[1]
+                    || t[1] == t[2]
+                    || t[0] == t[2]
+            }),
         // A repeated corner: exactly no area. (A sliver whose corners
         // are only nearly in line is not degenerate to the f64 test, and
         // its t can then lie off the triangle's own box, where no box
