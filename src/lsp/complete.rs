@@ -8,16 +8,9 @@ use super::analysis::{Analysis, DefKind};
 use super::context;
 use lsp_types::{CompletionItem, CompletionItemKind};
 
-/// `color` → `colour`, as the builder reads parameters.
-pub fn canonical(name: &str) -> &str {
-    match name {
-        "color" | "texture" => "colour",
-        "specular_color" => "specular_colour",
-        "mirror_color" => "mirror_colour",
-        "center" => "centre",
-        n => n,
-    }
-}
+/// `color` → `colour`, as the builder reads parameters (the builder's own
+/// spelling table).
+pub use crate::scene::canonical_parameter as canonical;
 
 const LANGUAGE: &[&str] = &["let", "for", "if", "fn", "include"];
 

@@ -11,7 +11,8 @@ pub mod pattern;
 pub mod texture;
 
 pub use build::{
-    Checked, ParamInfo, block_parameters, build, build_with, build_with_warnings, check, is_object,
+    Checked, ParamInfo, block_parameters, build, build_with, build_with_warnings,
+    canonical_parameter, check, is_object,
 };
 pub use camera::{Camera, PixelRays, Projection, ThinLens};
 pub use colour::{Colour, Transfer};

@@ -4,36 +4,7 @@
 //! pixels.
 
 use crate::support::*;
-use raytrace::render::{Film, Region, RenderOptions, RenderStats, render_region};
-
-/// The film and statistics of `src` over `region` (the whole picture when
-/// `None`), on `threads` threads.
-fn render_stats(src: &str, region: Option<Region>, threads: usize) -> (Film, RenderStats) {
-    let mut scene = build_src(src);
-    let world = raytrace::accel::World::build(std::mem::take(&mut scene.objects));
-    let all = Region {
-        x: 0,
-        y: 0,
-        width: scene.settings.width,
-        height: scene.settings.height,
-    };
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .unwrap();
-    pool.install(|| {
-        render_region(
-            &scene,
-            &world,
-            &RenderOptions {
-                progress: None,
-                cancel: None,
-            },
-            region.unwrap_or(all),
-        )
-    })
-    .unwrap()
-}
+use raytrace::render::{Film, Region};
 
 /// A grey disc on a darker background, lit by a small sphere light (its
 /// shading noise) and seen through a lens, with `render` settings.

@@ -8,30 +8,7 @@ use raytrace::render::{Film, Region, RenderOptions, RenderStats, render_region};
 
 /// The film and statistics of a scene given as text, on one thread.
 fn render_stats(src: &str) -> (Film, RenderStats) {
-    let mut scene = build_src(src);
-    let world = raytrace::accel::World::build(std::mem::take(&mut scene.objects));
-    let all = Region {
-        x: 0,
-        y: 0,
-        width: scene.settings.width,
-        height: scene.settings.height,
-    };
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(1)
-        .build()
-        .unwrap();
-    pool.install(|| {
-        render_region(
-            &scene,
-            &world,
-            &RenderOptions {
-                progress: None,
-                cancel: None,
-            },
-            all,
-        )
-    })
-    .unwrap()
+    crate::support::render_stats(src, None, 1)
 }
 
 /// A mirror floor filling the view from straight above, showing a white

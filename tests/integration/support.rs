@@ -1,6 +1,6 @@
 //! Helpers shared by the end-to-end tests: scenes from text, rendered films.
 
-use raytrace::render::{Film, RenderOptions};
+use raytrace::render::{Film, Region, RenderOptions, RenderStats, render_region};
 use raytrace::scene::Scene;
 use std::ffi::OsStr;
 use std::path::{Path, PathBuf};
@@ -184,4 +184,33 @@ rectangle {{ bottom_left <-1, -1, 0>  top_left <-1, 1, 0>  bottom_right <1, -1, 
     );
     std::fs::write(&scene, src).unwrap();
     render_path(&scene, None, 2)
+}
+
+/// The film and statistics of `src` over `region` (the whole picture when
+/// `None`), on `threads` threads.
+pub fn render_stats(src: &str, region: Option<Region>, threads: usize) -> (Film, RenderStats) {
+    let mut scene = build_src(src);
+    let world = raytrace::accel::World::build(std::mem::take(&mut scene.objects));
+    let all = Region {
+        x: 0,
+        y: 0,
+        width: scene.settings.width,
+        height: scene.settings.height,
+    };
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap();
+    pool.install(|| {
+        render_region(
+            &scene,
+            &world,
+            &RenderOptions {
+                progress: None,
+                cancel: None,
+            },
+            region.unwrap_or(all),
+        )
+    })
+    .unwrap()
 }
