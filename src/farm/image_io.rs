@@ -117,6 +117,22 @@ fn read_png(path: &Path) -> Result<Tile, String> {
             img.color()
         ));
     }
+    // As an EXR's data window must: merge copies the pixels to the
+    // record's place, and they must fill exactly that rectangle.
+    if let Some(s) = &stamp {
+        let r = s.region;
+        if (img.width(), img.height()) != (r.width, r.height) {
+            return Err(format!(
+                "its {}x{} pixels disagree with its record's region {},{},{},{}",
+                img.width(),
+                img.height(),
+                r.x,
+                r.y,
+                r.width,
+                r.height
+            ));
+        }
+    }
     Ok(Tile {
         pixels: Pixels::Rgb8(img.to_rgb8()),
         stamp,
@@ -248,6 +264,15 @@ mod tests {
         };
         assert_eq!(back, img);
         assert!(read_tile(&dir.path().join("t.jpg")).is_err());
+        // A record whose region is not the picture's size is refused (merge
+        // would copy the pixels outside their place).
+        let q = dir.path().join("wrong.png");
+        write_png(&img, &stamp(1, 2, 3, 3), std::fs::File::create(&q).unwrap()).unwrap();
+        let e = read_tile(&q).err().unwrap();
+        assert!(
+            e.contains("4x3 pixels disagree") && e.contains("1,2,3,3"),
+            "{e}"
+        );
     }
 
     #[test]
