@@ -14,10 +14,26 @@ const PATH_DIMS: u32 = 4;
 
 /// A 64-bit mix (SplitMix64's finaliser): every input bit reaches every
 /// output bit.
-fn mix(mut z: u64) -> u64 {
+const fn mix(mut z: u64) -> u64 {
     z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
     z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
     z ^ (z >> 31)
+}
+
+/// The per-column and per-row key offsets of the multi-jittered sampler,
+/// `mix(1 + i)` and `mix(0x1_0000 + j)`: the same for every pixel, so
+/// worked out at compile time rather than twice per column per pattern.
+const COLUMN_KEYS: [u64; MAX_SAMPLES as usize] = key_table(1);
+const ROW_KEYS: [u64; MAX_SAMPLES as usize] = key_table(0x1_0000);
+
+const fn key_table(base: u64) -> [u64; MAX_SAMPLES as usize] {
+    let mut t = [0; MAX_SAMPLES as usize];
+    let mut i = 0;
+    while i < t.len() {
+        t[i] = mix(base + i as u64);
+        i += 1;
+    }
+    t
 }
 
 /// Which pixel a number belongs to, in the full picture's coordinates.
@@ -76,7 +92,9 @@ fn permutation(p: &mut [u16], key: u64) {
         let r = mix(key ^ (i as u64).wrapping_mul(0x2545_f491_4f6c_dd1d));
         // An index in 0..=i from the high 32 bits, without a division.
         let j = (((r >> 32) * (i as u64 + 1)) >> 32) as usize;
-        p.swap(i, j);
+        // j ≤ i already; the `min` says so to the compiler, which then drops
+        // a bounds check from this, the sampler's hottest loop.
+        p.swap(i, j.min(i));
     }
 }
 
@@ -133,11 +151,11 @@ impl PixelSampler {
                 out.resize(nu * nu, (0.0, 0.0));
                 let mut taus = [[0u16; MAX_SAMPLES as usize]; MAX_SAMPLES as usize];
                 for (j, tau) in taus.iter_mut().enumerate().take(nu) {
-                    permutation(&mut tau[..nu], key ^ mix(0x1_0000 + j as u64));
+                    permutation(&mut tau[..nu], key ^ ROW_KEYS[j]);
                 }
                 let mut sigma = [0u16; MAX_SAMPLES as usize];
                 for i in 0..n {
-                    permutation(&mut sigma[..nu], key ^ mix(1 + i as u64));
+                    permutation(&mut sigma[..nu], key ^ COLUMN_KEYS[i as usize]);
                     for (j, tau) in taus.iter().enumerate().take(nu) {
                         let s = j as u32 * n + i;
                         let (a, b) = r(s);
