@@ -627,10 +627,14 @@ impl Shape for Csg {
             let inv = ray.dir.recip();
             let mut m = 0u64;
             for i in 0..self.children.len().min(64) {
-                if self.reach[i] != Reach::Nowhere
-                    && clip(&self.child_bounds[i], ray, inv, t_min, t_max).is_some()
-                    && self.children[i].occludes(ray, t_min, t_max)
-                {
+                // An unbounded child's box (all space, or a half-space) is
+                // no cheaper to clip than the child (a plane) is to ask.
+                let near = match self.reach[i] {
+                    Reach::Nowhere => false,
+                    Reach::Bounded => clip(&self.child_bounds[i], ray, inv, t_min, t_max).is_some(),
+                    Reach::Unbounded => true,
+                };
+                if near && self.children[i].occludes(ray, t_min, t_max) {
                     m |= 1 << i;
                 }
             }
