@@ -197,4 +197,30 @@ mod tests {
             assert!((h.point - r.at(h.t)).truncate().abs().max_element() <= e.max_element());
         }
     }
+
+    /// The disc is the points of its plane within r of its centre, in
+    /// every direction: a grid of rays straight down hits exactly those
+    /// (rays within 1e-9 of the rim are skipped), from either side.
+    #[test]
+    fn hits_exactly_the_points_within_the_radius() {
+        let (c, r) = (DVec3::new(0.4, -1.1, 2.0), 1.3);
+        let d = Disc::new(c, r, 0);
+        let mut inside = 0;
+        for i in -30..=30 {
+            for j in -30..=30 {
+                let q = DVec3::new(i as f64, j as f64, 0.0) * (r / 20.0);
+                let dist = q.length();
+                if (dist - r).abs() < 1e-9 {
+                    continue;
+                }
+                for dz in [1.0, -1.0] {
+                    let ray = Ray::new(c + q + DVec3::Z * 3.0 * dz, -DVec3::Z * dz);
+                    let hit = d.intersect(&ray, 0.0, 9.0).is_some();
+                    assert_eq!(hit, dist < r, "q {q:?} ({dist} vs r {r})");
+                    inside += hit as usize;
+                }
+            }
+        }
+        assert!(inside > 1000, "{inside}");
+    }
 }

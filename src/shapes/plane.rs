@@ -320,4 +320,54 @@ mod tests {
         assert!(!shelf.misses_hull(&[up(1.0), up(2.0 - 1e-12)]));
         assert!(!shelf.misses_hull(&[up(3.0), up(2.0 + 1e-12)]));
     }
+
+    /// The window is open at both ends (`t_min < t < t_max`, as for every
+    /// shape): a hit exactly at t_max is not in it — a shadow ray to a
+    /// point on the plane is not blocked by that plane.
+    #[test]
+    fn a_hit_exactly_at_the_window_end_is_outside() {
+        let floor = Plane::new(DVec3::Y, 0.0, 0);
+        let r = Ray::new(DVec3::new(0.5, 3.0, -1.0), -DVec3::Y);
+        assert_eq!(floor.root(&r), Some(3.0));
+        assert!(floor.intersect(&r, 0.0, 3.0).is_none());
+        assert!(!floor.occludes(&r, 0.0, 3.0));
+        assert!(floor.intersect(&r, 3.0, 9.0).is_none());
+        assert_eq!(floor.intersect(&r, 0.0, 3.0 + 1e-9).map(|h| h.t), Some(3.0));
+    }
+
+    /// The shared properties, and the whole line's single crossing (behind
+    /// the origin too, which CSG asks for), the same through the light
+    /// route (`crossings_lite` then `hit_of`).
+    #[test]
+    fn properties_and_crossings() {
+        let p = Plane::new(DVec3::new(0.3, 1.0, -0.2), 0.4, 0);
+        let rays = crate::shapes::testing::rays_towards(DVec3::new(0.0, 0.4, 0.0), 3.0, 400, 67);
+        crate::shapes::testing::check_consistency(&p, &rays);
+        crate::shapes::testing::check_no_rehit(&p, &rays);
+        assert!(crate::shapes::testing::check_normals(&p, &rays) > 50);
+        assert!(crate::shapes::testing::check_occludes_agrees(&p, &rays) > 100);
+        for r in &rays {
+            let mut xs = Vec::new();
+            p.crossings(r, &mut xs);
+            let mut lite = Vec::new();
+            p.crossings_lite(r, &mut lite);
+            let t = p.root(r).unwrap();
+            assert_eq!(xs.len(), 1);
+            assert_eq!(xs[0].t, t);
+            assert_eq!(lite.len(), 1);
+            assert_eq!(lite[0].t, t);
+            assert_eq!(lite[0].facing.signum(), p.normal.dot(r.dir).signum());
+            let h = p.hit_of(r, &lite[0]);
+            assert_eq!(
+                (h.t, h.point, h.normal),
+                (xs[0].t, xs[0].point, xs[0].normal)
+            );
+            // Backwards along the same line: the crossing is at −t.
+            let back = Ray::new(r.origin, -r.dir);
+            let mut xs = Vec::new();
+            p.crossings(&back, &mut xs);
+            assert_eq!(xs.len(), 1);
+            assert!((xs[0].t + t).abs() <= 1e-12 * t.abs().max(1.0));
+        }
+    }
 }
