@@ -223,4 +223,19 @@ mod tests {
         }
         assert!(inside > 1000, "{inside}");
     }
+
+    /// The window is open at both ends (`t_min < t < t_max`): a hit
+    /// exactly at either end is outside it, for the nearest hit and the
+    /// shadow test alike (a shadow ray ending on the disc is not blocked).
+    #[test]
+    fn a_hit_exactly_at_either_window_end_is_outside() {
+        let d = Disc::new(DVec3::new(0.0, 0.0, 1.0), 1.0, 0);
+        let r = Ray::new(DVec3::new(0.1, 0.2, 4.0), -DVec3::Z);
+        assert_eq!(d.intersect(&r, 0.0, 9.0).map(|h| h.t), Some(3.0));
+        for (lo, hi) in [(0.0, 3.0), (3.0, 9.0)] {
+            assert!(d.intersect(&r, lo, hi).is_none(), "({lo}, {hi})");
+            assert!(!d.occludes(&r, lo, hi), "({lo}, {hi})");
+        }
+        assert!(d.occludes(&r, 3.0 - 1e-9, 3.0 + 1e-9));
+    }
 }

@@ -341,6 +341,8 @@ mod tests {
     #[test]
     fn properties_and_crossings() {
         let p = Plane::new(DVec3::new(0.3, 1.0, -0.2), 0.4, 0);
+        // A half-space: CSG may take it as a solid.
+        assert!(p.is_solid());
         let rays = crate::shapes::testing::rays_towards(DVec3::new(0.0, 0.4, 0.0), 3.0, 400, 67);
         crate::shapes::testing::check_consistency(&p, &rays);
         crate::shapes::testing::check_no_rehit(&p, &rays);
