@@ -319,6 +319,15 @@ mod tests {
         assert!(!shelf.misses_hull(&[up(2.0 + 1e-12), up(2.0 + 2e-12)]));
         assert!(!shelf.misses_hull(&[up(1.0), up(2.0 - 1e-12)]));
         assert!(!shelf.misses_hull(&[up(3.0), up(2.0 + 1e-12)]));
+        // Far from the origin the rounding grows with the magnitudes: a
+        // few ulps off a plane at 1e6 is still unsure, while a unit off it
+        // (1e-6 of the magnitudes, 1e10 roundings) is clearly off.
+        let far = Plane::new(DVec3::Y, 1e6, 0);
+        let ulps = |k: f64| up(1e6 * (1.0 + k * f64::EPSILON));
+        assert!(!far.misses_hull(&[ulps(4.0), ulps(8.0)]));
+        assert!(!far.misses_hull(&[ulps(-4.0), ulps(-8.0)]));
+        assert!(far.misses_hull(&[up(1e6 + 1.0), up(1e6 + 2.0)]));
+        assert!(far.misses_hull(&[up(1e6 - 1.0), up(1e6 - 2.0)]));
     }
 
     /// The window is open at both ends (`t_min < t < t_max`, as for every
