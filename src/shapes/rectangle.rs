@@ -195,6 +195,8 @@ mod tests {
     #[test]
     fn bounds_hold_every_hit_and_are_tight() {
         let r = wall();
+        // An open surface: not a solid for CSG.
+        assert!(!r.is_solid());
         let b = r.bounds();
         assert_eq!(b, Aabb::new(DVec3::ZERO, DVec3::new(5.0, 2.0, 0.0)));
         let mut hits = 0;
