@@ -243,4 +243,40 @@ mod tests {
             }
         }
     }
+
+    /// A hit's point is pulled onto the sphere (its distance from the
+    /// centre is r up to a few roundings), and its error bound is a few
+    /// roundings of the magnitudes involved: never negative, never a
+    /// multiple of the sphere's size, near the origin and far from it.
+    #[test]
+    fn hit_points_are_on_the_sphere_with_a_rounding_sized_error() {
+        for (c, r) in [
+            (DVec3::new(0.1, -0.2, 0.3), 0.7),
+            (DVec3::new(1e3, -2e3, 5e2), 3.0),
+        ] {
+            let s = Sphere::new(c, r, 0);
+            let mut hits = 0;
+            for ray in testing::rays_towards(c, r, 300, 9) {
+                let Some(h) = s.intersect(&ray, 0.0, f64::INFINITY) else {
+                    continue;
+                };
+                let mag = c.abs().max_element() + r;
+                let e = h.p_error;
+                assert!(e.min_element() >= 0.0, "{e:?}");
+                assert!(
+                    e.max_element() <= 16.0 * f64::EPSILON * mag,
+                    "{e:?} vs {mag}"
+                );
+                let off = ((h.point - c).length() - r).abs();
+                assert!(off <= 16.0 * f64::EPSILON * mag, "{off} off");
+                assert!(
+                    (h.normal - (h.point - c) / r).length() < 1e-9,
+                    "{:?}",
+                    h.normal
+                );
+                hits += 1;
+            }
+            assert!(hits > 100, "{hits}");
+        }
+    }
 }
