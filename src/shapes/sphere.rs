@@ -279,4 +279,28 @@ mod tests {
             assert!(hits > 100, "{hits}");
         }
     }
+
+    /// Rays need not be unit length (a scaled transform passes longer or
+    /// shorter ones): a direction k times as long meets the same points at
+    /// t/k.
+    #[test]
+    fn direction_length_scales_t_only() {
+        let s = Sphere::new(DVec3::new(1.0, -2.0, 0.5), 1.5, 0);
+        for ray in testing::rays_towards(s.centre, 2.0, 200, 11) {
+            let Some(h) = s.intersect(&ray, 0.0, f64::INFINITY) else {
+                continue;
+            };
+            for k in [0.25, 2.5] {
+                let long = Ray::new(ray.origin, ray.dir * k);
+                let hk = s.intersect(&long, 0.0, f64::INFINITY).unwrap();
+                assert!(
+                    (hk.t * k - h.t).abs() < 1e-9 * h.t,
+                    "{} vs {}",
+                    hk.t * k,
+                    h.t
+                );
+                assert!((hk.point - h.point).length() < 1e-9);
+            }
+        }
+    }
 }
