@@ -68,4 +68,17 @@ mod tests {
         assert!(!refine(0.01).disagree(&bright));
         assert!(!refine(0.01).disagree(&[]));
     }
+
+    /// "More than the threshold", not "at least": samples exactly T apart
+    /// keep their pixel, and a flat pixel is never refined, even at T = 0
+    /// (which refines every pixel whose samples differ at all).
+    #[test]
+    fn a_range_equal_to_the_threshold_does_not_refine() {
+        let edge = [Colour::ZERO, Colour::new(0.0, 0.25, 0.0)];
+        assert!(!refine(0.25).disagree(&edge));
+        assert!(refine(0.125).disagree(&edge));
+        let flat = [Colour::splat(0.5); 4];
+        assert!(!refine(0.0).disagree(&flat));
+        assert!(refine(0.0).disagree(&[Colour::splat(0.5), Colour::splat(0.5 + 1e-9)]));
+    }
 }

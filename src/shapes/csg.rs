@@ -617,23 +617,42 @@ impl Shape for Csg {
         if !self.may_hit(ray, t_min, t_max) {
             return false;
         }
+        // Every surface of the result is some child's surface, so when no
+        // child has a crossing in range (the common shadow ray), neither
+        // does the result: a union asks its children first and splits them
+        // (which costs an unbounded child's crossings) only when one is hit.
+        // An intersection or a difference narrows its sweep by its first
+        // child at once, which does the same job.
+        let occluding = if self.op == CsgOp::Union {
+            let inv = ray.dir.recip();
+            let mut m = 0u64;
+            for i in 0..self.children.len().min(64) {
+                // An unbounded child's box (all space, or a half-space) is
+                // no cheaper to clip than the child (a plane) is to ask.
+                let near = match self.reach[i] {
+                    Reach::Nowhere => false,
+                    Reach::Bounded => clip(&self.child_bounds[i], ray, inv, t_min, t_max).is_some(),
+                    Reach::Unbounded => true,
+                };
+                if near && self.children[i].occludes(ray, t_min, t_max) {
+                    m |= 1 << i;
+                }
+            }
+            if m == 0 {
+                return false;
+            }
+            m
+        } else {
+            u64::MAX
+        };
         with_scratch(|s| {
             let (alone, rest) = self.union_split(ray, t_min, t_max, s);
-            if bits(alone).any(|i| self.children[i].occludes(ray, t_min, t_max)) {
+            // A lone child's surfaces are the result's.
+            if alone & occluding != 0 {
                 return true;
             }
-            // Every surface of the result is some child's surface, so when no
-            // child has a crossing in range (the common shadow ray), neither
-            // does the result, and the sweep is not needed. (An intersection
-            // or a difference narrows its sweep by its first child at once,
-            // which does the same job.)
-            let near = self.op != CsgOp::Union
-                || bits(rest).any(|i| {
-                    clip(&self.child_bounds[i], ray, ray.dir.recip(), t_min, t_max).is_some()
-                        && self.children[i].occludes(ray, t_min, t_max)
-                });
             let mut hit = false;
-            if near {
+            if rest & occluding != 0 {
                 self.sweep(ray, (t_min, t_max), !rest, s, |c| {
                     hit = c.t > t_min && c.t < t_max;
                     hit || c.t >= t_max

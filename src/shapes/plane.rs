@@ -219,4 +219,166 @@ mod tests {
             }
         }
     }
+
+    /// n·p − d with only the last rounding: each product's error recovered
+    /// with a fused multiply-add, each sum's with two-sum.
+    fn exact_residual(n: DVec3, p: DVec3, d: f64) -> f64 {
+        let (mut sum, mut err) = (0.0f64, 0.0f64);
+        let mut add = |x: f64| {
+            let s = sum + x;
+            let bp = s - sum;
+            err += (sum - (s - bp)) + (x - bp);
+            sum = s;
+        };
+        for (a, b) in [(n.x, p.x), (n.y, p.y), (n.z, p.z)] {
+            let m = a * b;
+            add(m);
+            add(a.mul_add(b, -m));
+        }
+        add(-d);
+        sum + err
+    }
+
+    /// A hit's point is where the ray meets the plane, snapped onto it: the
+    /// exact n·point − d is within what its error bound allows along the
+    /// normal, the snap moves the ray's point by a few roundings only, and
+    /// the bound itself is a few roundings of the magnitudes involved
+    /// (never negative, never a multiple of the scene's size) — near the
+    /// origin, far from it, and on tilted planes.
+    #[test]
+    fn hit_points_lie_on_the_plane_within_their_error_bound() {
+        let planes = [
+            Plane::new(DVec3::new(0.3, 1.0, -0.2), 0.4, 0),
+            Plane::new(DVec3::new(1.0, 2.0, -0.5), 1e3, 0),
+            Plane::new(DVec3::new(-2.0, 0.5, 3.0), -7.5, 0),
+            Plane::new(DVec3::Y, 0.0, 0),
+            Plane::new(DVec3::new(0.0, 1.0, 1.0), 0.0, 0),
+        ];
+        let eps = f64::EPSILON;
+        let mut checked = 0;
+        for p in &planes {
+            let on = p.normal * p.offset;
+            let mut rays = crate::shapes::testing::rays_towards(on, 3.0, 300, 71);
+            // Hits within 1e-3 of the origin (or of the plane's nearest
+            // point to it): small magnitudes.
+            rays.extend(crate::shapes::testing::rays_towards(on, 1e-3, 100, 73));
+            for r in &rays {
+                let Some(h) = p.intersect(r, 0.0, f64::INFINITY) else {
+                    continue;
+                };
+                let at = r.at(h.t);
+                // The ray's point carries the rounding of o + t·d: the
+                // magnitudes are the origin's as well as the point's.
+                let mag = r.origin.abs().max_element().max(at.abs().max_element()) + p.offset.abs();
+                let e = h.p_error;
+                assert!(e.min_element() >= 0.0, "{e:?} for {r:?}");
+                assert!(
+                    e.max_element() <= 16.0 * eps * mag,
+                    "{e:?} vs {mag} for {r:?}"
+                );
+                let moved = (h.point - at).abs().max_element();
+                assert!(
+                    moved <= 16.0 * eps * mag,
+                    "moved {moved} of {mag} for {r:?}"
+                );
+                let off = exact_residual(p.normal, h.point, p.offset).abs();
+                assert!(
+                    off <= p.normal.abs().dot(e),
+                    "{off} off the plane, bound {e:?}, for {r:?}"
+                );
+                checked += 1;
+            }
+        }
+        assert!(checked > 1000, "{checked}");
+    }
+
+    /// The shadow-shaft cull: a hull surely misses the plane only when all
+    /// its points are clearly on one side; a point on the plane, within
+    /// rounding of it, or points on both sides keep the plane in.
+    #[test]
+    fn misses_hull_only_when_every_point_is_clearly_on_one_side() {
+        let floor = Plane::new(DVec3::Y, 0.0, 0);
+        let up = |y: f64| DVec3::new(0.5, y, -0.25);
+        assert!(floor.misses_hull(&[up(1.0), up(2.0), DVec3::new(-3.0, 0.5, 4.0)]));
+        assert!(floor.misses_hull(&[up(-1.0), up(-2.0)]));
+        assert!(!floor.misses_hull(&[up(1.0), up(-1.0)]));
+        assert!(!floor.misses_hull(&[up(-1.0), up(1.0)]));
+        assert!(!floor.misses_hull(&[DVec3::ZERO, up(1.0)]));
+        assert!(!floor.misses_hull(&[up(1.0), DVec3::ZERO]));
+        assert!(!floor.misses_hull(&[DVec3::ZERO, up(-1.0)]));
+        assert!(!floor.misses_hull(&[]));
+        // y = 2, written with a longer normal: above, below, both, and
+        // points within rounding of the plane (1e-12 of magnitudes ~2)
+        // on either side.
+        let shelf = Plane::new(DVec3::new(0.0, 4.0, 0.0), 2.0, 0);
+        assert!(shelf.misses_hull(&[up(3.0), up(2.5)]));
+        assert!(shelf.misses_hull(&[up(1.0), up(-1.0)]));
+        assert!(!shelf.misses_hull(&[up(1.0), up(3.0)]));
+        assert!(!shelf.misses_hull(&[up(3.0), up(1.0)]));
+        assert!(!shelf.misses_hull(&[up(2.0 - 1e-12), up(2.0 - 2e-12)]));
+        assert!(!shelf.misses_hull(&[up(2.0 + 1e-12), up(2.0 + 2e-12)]));
+        assert!(!shelf.misses_hull(&[up(1.0), up(2.0 - 1e-12)]));
+        assert!(!shelf.misses_hull(&[up(3.0), up(2.0 + 1e-12)]));
+        // Far from the origin the rounding grows with the magnitudes: a
+        // few ulps off a plane at 1e6 is still unsure, while a unit off it
+        // (1e-6 of the magnitudes, 1e10 roundings) is clearly off.
+        let far = Plane::new(DVec3::Y, 1e6, 0);
+        let ulps = |k: f64| up(1e6 * (1.0 + k * f64::EPSILON));
+        assert!(!far.misses_hull(&[ulps(4.0), ulps(8.0)]));
+        assert!(!far.misses_hull(&[ulps(-4.0), ulps(-8.0)]));
+        assert!(far.misses_hull(&[up(1e6 + 1.0), up(1e6 + 2.0)]));
+        assert!(far.misses_hull(&[up(1e6 - 1.0), up(1e6 - 2.0)]));
+    }
+
+    /// The window is open at both ends (`t_min < t < t_max`, as for every
+    /// shape): a hit exactly at t_max is not in it — a shadow ray to a
+    /// point on the plane is not blocked by that plane.
+    #[test]
+    fn a_hit_exactly_at_the_window_end_is_outside() {
+        let floor = Plane::new(DVec3::Y, 0.0, 0);
+        let r = Ray::new(DVec3::new(0.5, 3.0, -1.0), -DVec3::Y);
+        assert_eq!(floor.root(&r), Some(3.0));
+        assert!(floor.intersect(&r, 0.0, 3.0).is_none());
+        assert!(!floor.occludes(&r, 0.0, 3.0));
+        assert!(floor.intersect(&r, 3.0, 9.0).is_none());
+        assert_eq!(floor.intersect(&r, 0.0, 3.0 + 1e-9).map(|h| h.t), Some(3.0));
+    }
+
+    /// The shared properties, and the whole line's single crossing (behind
+    /// the origin too, which CSG asks for), the same through the light
+    /// route (`crossings_lite` then `hit_of`).
+    #[test]
+    fn properties_and_crossings() {
+        let p = Plane::new(DVec3::new(0.3, 1.0, -0.2), 0.4, 0);
+        // A half-space: CSG may take it as a solid.
+        assert!(p.is_solid());
+        let rays = crate::shapes::testing::rays_towards(DVec3::new(0.0, 0.4, 0.0), 3.0, 400, 67);
+        crate::shapes::testing::check_consistency(&p, &rays);
+        crate::shapes::testing::check_no_rehit(&p, &rays);
+        assert!(crate::shapes::testing::check_normals(&p, &rays) > 50);
+        assert!(crate::shapes::testing::check_occludes_agrees(&p, &rays) > 100);
+        for r in &rays {
+            let mut xs = Vec::new();
+            p.crossings(r, &mut xs);
+            let mut lite = Vec::new();
+            p.crossings_lite(r, &mut lite);
+            let t = p.root(r).unwrap();
+            assert_eq!(xs.len(), 1);
+            assert_eq!(xs[0].t, t);
+            assert_eq!(lite.len(), 1);
+            assert_eq!(lite[0].t, t);
+            assert_eq!(lite[0].facing.signum(), p.normal.dot(r.dir).signum());
+            let h = p.hit_of(r, &lite[0]);
+            assert_eq!(
+                (h.t, h.point, h.normal),
+                (xs[0].t, xs[0].point, xs[0].normal)
+            );
+            // Backwards along the same line: the crossing is at −t.
+            let back = Ray::new(r.origin, -r.dir);
+            let mut xs = Vec::new();
+            p.crossings(&back, &mut xs);
+            assert_eq!(xs.len(), 1);
+            assert!((xs[0].t + t).abs() <= 1e-12 * t.abs().max(1.0));
+        }
+    }
 }

@@ -163,4 +163,64 @@ mod tests {
         assert!(testing::check_normals(&r, &rays) > 50);
         assert!(testing::check_occludes_agrees(&r, &rays) > 100);
     }
+
+    /// (u, v) are the point's coordinates along the two edges from the
+    /// bottom left corner, p = bl + u·(br − bl) + v·(tl − bl), on both
+    /// halves either side of the diagonal, and the hit is at that point.
+    #[test]
+    fn uv_are_the_edge_coordinates_on_both_halves() {
+        let r = wall();
+        let (bl, br, tl) = (
+            DVec3::ZERO,
+            DVec3::new(4.0, 0.0, 0.0),
+            DVec3::new(1.0, 2.0, 0.0),
+        );
+        for i in 1..10 {
+            for j in 1..10 {
+                let (u, v) = (i as f64 * 0.1 - 0.03, j as f64 * 0.1 + 0.02);
+                let p = bl + u * (br - bl) + v * (tl - bl);
+                let ray = Ray::new(p + DVec3::Z * 3.0, -DVec3::Z);
+                let h = r.intersect(&ray, 0.0, 9.0).unwrap();
+                assert!(
+                    (h.uv - DVec2::new(u, v)).length() < 1e-12,
+                    "{:?} vs ({u}, {v})",
+                    h.uv
+                );
+                assert!((h.point - p).length() < 1e-12, "{:?} vs {p:?}", h.point);
+            }
+        }
+    }
+
+    /// The box holds every hit and is the four corners' own box.
+    #[test]
+    fn bounds_hold_every_hit_and_are_tight() {
+        let r = wall();
+        // An open surface: not a solid for CSG.
+        assert!(!r.is_solid());
+        let b = r.bounds();
+        assert_eq!(b, Aabb::new(DVec3::ZERO, DVec3::new(5.0, 2.0, 0.0)));
+        let mut hits = 0;
+        for ray in testing::rays_towards(DVec3::new(2.5, 1.0, 0.0), 1.5, 400, 41) {
+            if let Some(h) = r.intersect(&ray, 0.0, f64::INFINITY) {
+                assert!(b.contains(h.point), "{:?} outside {b:?}", h.point);
+                hits += 1;
+            }
+        }
+        assert!(hits > 100, "{hits}");
+    }
+
+    /// The window is open at both ends (`t_min < t < t_max`): a hit exactly
+    /// at either end is outside it, for the nearest hit and the shadow test
+    /// alike (an area light's shadow ray ending on it is not blocked).
+    #[test]
+    fn a_hit_exactly_at_either_window_end_is_outside() {
+        let r = wall();
+        let ray = Ray::new(DVec3::new(2.5, 0.5, 3.0), -DVec3::Z);
+        assert_eq!(r.intersect(&ray, 0.0, 9.0).map(|h| h.t), Some(3.0));
+        for (lo, hi) in [(0.0, 3.0), (3.0, 9.0)] {
+            assert!(r.intersect(&ray, lo, hi).is_none(), "({lo}, {hi})");
+            assert!(!r.occludes(&ray, lo, hi), "({lo}, {hi})");
+        }
+        assert!(r.occludes(&ray, 3.0 - 1e-9, 3.0 + 1e-9));
+    }
 }

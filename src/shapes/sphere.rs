@@ -188,4 +188,119 @@ mod tests {
         let s = Sphere::new(DVec3::new(1.0, 2.0, 3.0), 1.5, 0);
         testing::check_consistency(&s, &testing::rays_towards(s.centre, 2.0, 500, 1));
     }
+
+    /// The shared properties: the shadow test and nearest hit agree with
+    /// the crossings in every window, normals match finite differences,
+    /// rays leaving do not re-hit, crossings alternate in and out; the box
+    /// holds every hit; a sphere is a solid.
+    #[test]
+    fn properties_and_bounds() {
+        let s = Sphere::new(DVec3::new(1.0, -2.0, 0.5), 1.5, 0);
+        let rays = testing::rays_towards(s.centre, 2.0, 500, 5);
+        assert!(testing::check_occludes_agrees(&s, &rays) > 100);
+        assert!(testing::check_normals(&s, &rays) > 50);
+        testing::check_no_rehit(&s, &rays);
+        testing::check_alternation(&s, &rays);
+        assert!(s.is_solid());
+        let b = s.bounds();
+        assert_eq!(
+            b,
+            Aabb::new(DVec3::new(-0.5, -3.5, -1.0), DVec3::new(2.5, -0.5, 2.0))
+        );
+        for r in &rays {
+            if let Some(h) = s.intersect(r, 0.0, f64::INFINITY) {
+                assert!(b.contains(h.point), "{:?} outside {b:?}", h.point);
+                assert!(((h.point - s.centre).length() - 1.5).abs() < 1e-12);
+            }
+        }
+    }
+
+    /// u is the angle about +y from +z (towards +x) over 2π, in [0, 1);
+    /// v is 1 − (angle from +y)/π: checked against that definition all
+    /// round the sphere, and through the shape's own `uv`.
+    #[test]
+    fn uv_is_longitude_and_latitude() {
+        let s = Sphere::new(DVec3::new(0.3, 0.1, -0.2), 2.0, 0);
+        for i in 1..12 {
+            for j in 0..16 {
+                let theta = PI * i as f64 / 12.0;
+                let phi = 2.0 * PI * (j as f64 + 0.25) / 16.0;
+                let n = DVec3::new(
+                    theta.sin() * phi.sin(),
+                    theta.cos(),
+                    theta.sin() * phi.cos(),
+                );
+                let want = DVec2::new(phi / (2.0 * PI), 1.0 - theta / PI);
+                let uv = sphere_uv(n);
+                assert!((uv - want).length() < 1e-12, "{uv:?} vs {want:?} at {n:?}");
+                let o = s.centre + n * 5.0;
+                let h = s.intersect(&Ray::new(o, -n), 0.0, 9.0).unwrap();
+                assert!(
+                    (s.uv(&h) - want).length() < 1e-9,
+                    "{:?} vs {want:?}",
+                    s.uv(&h)
+                );
+            }
+        }
+    }
+
+    /// A hit's point is pulled onto the sphere (its distance from the
+    /// centre is r up to a few roundings), and its error bound is a few
+    /// roundings of the magnitudes involved: never negative, never a
+    /// multiple of the sphere's size, near the origin and far from it.
+    #[test]
+    fn hit_points_are_on_the_sphere_with_a_rounding_sized_error() {
+        for (c, r) in [
+            (DVec3::new(0.1, -0.2, 0.3), 0.7),
+            (DVec3::new(1e3, -2e3, 5e2), 3.0),
+        ] {
+            let s = Sphere::new(c, r, 0);
+            let mut hits = 0;
+            for ray in testing::rays_towards(c, r, 300, 9) {
+                let Some(h) = s.intersect(&ray, 0.0, f64::INFINITY) else {
+                    continue;
+                };
+                let mag = c.abs().max_element() + r;
+                let e = h.p_error;
+                assert!(e.min_element() >= 0.0, "{e:?}");
+                assert!(
+                    e.max_element() <= 16.0 * f64::EPSILON * mag,
+                    "{e:?} vs {mag}"
+                );
+                let off = ((h.point - c).length() - r).abs();
+                assert!(off <= 16.0 * f64::EPSILON * mag, "{off} off");
+                assert!(
+                    (h.normal - (h.point - c) / r).length() < 1e-9,
+                    "{:?}",
+                    h.normal
+                );
+                hits += 1;
+            }
+            assert!(hits > 100, "{hits}");
+        }
+    }
+
+    /// Rays need not be unit length (a scaled transform passes longer or
+    /// shorter ones): a direction k times as long meets the same points at
+    /// t/k.
+    #[test]
+    fn direction_length_scales_t_only() {
+        let s = Sphere::new(DVec3::new(1.0, -2.0, 0.5), 1.5, 0);
+        for ray in testing::rays_towards(s.centre, 2.0, 200, 11) {
+            let Some(h) = s.intersect(&ray, 0.0, f64::INFINITY) else {
+                continue;
+            };
+            for k in [0.25, 2.5] {
+                let long = Ray::new(ray.origin, ray.dir * k);
+                let hk = s.intersect(&long, 0.0, f64::INFINITY).unwrap();
+                assert!(
+                    (hk.t * k - h.t).abs() < 1e-9 * h.t,
+                    "{} vs {}",
+                    hk.t * k,
+                    h.t
+                );
+                assert!((hk.point - h.point).length() < 1e-9);
+            }
+        }
+    }
 }
