@@ -623,10 +623,12 @@ impl Shape for Csg {
         // (which costs an unbounded child's crossings) only when one is hit.
         // An intersection or a difference narrows its sweep by its first
         // child at once, which does the same job.
-        let occluding = if self.op == CsgOp::Union {
+        // A union wider than the mask's 64 bits skips the pre-test: the
+        // sweep asks every child, the ones past the 64th included.
+        let occluding = if self.op == CsgOp::Union && self.children.len() <= 64 {
             let inv = ray.dir.recip();
             let mut m = 0u64;
-            for i in 0..self.children.len().min(64) {
+            for i in 0..self.children.len() {
                 // An unbounded child's box (all space, or a half-space) is
                 // no cheaper to clip than the child (a plane) is to ask.
                 let near = match self.reach[i] {

@@ -714,3 +714,26 @@ fn rendered_union_with_itself_is_the_shape() {
     assert!(alone.pixels.iter().any(|p| p[1] > 0.0));
     assert!(alone.pixels.contains(&[0.0; 3]));
 }
+
+#[test]
+fn a_union_wider_than_64_children_shadows_through_every_child() {
+    // 70 small spheres in a row along x; a shadow ray crosses only the
+    // last one, past the 64 bits a child mask holds.
+    let u = Csg::new(
+        CsgOp::Union,
+        (0..70)
+            .map(|i| sphere(DVec3::new(3.0 * i as f64, 0.0, 0.0), 1.0, 1))
+            .collect(),
+    );
+    for i in [0, 63, 64, 69] {
+        let x = 3.0 * i as f64;
+        let r = Ray::new(DVec3::new(x, 5.0, 0.0), DVec3::new(0.0, -1.0, 0.0));
+        assert!(u.occludes(&r, 1e-9, 10.0), "sphere {i} casts no shadow");
+        assert!(
+            u.intersect(&r, 1e-9, 10.0).is_some(),
+            "sphere {i} is not hit"
+        );
+    }
+    let between = Ray::new(DVec3::new(199.5, 5.0, 0.0), DVec3::new(0.0, -1.0, 0.0));
+    assert!(!u.occludes(&between, 1e-9, 10.0));
+}
