@@ -165,13 +165,8 @@ mod tests {
             b,
             Aabb::new(DVec3::new(-1.0, 0.0, 3.0), DVec3::new(3.0, 4.0, 3.0))
         );
-        let mut hits = 0;
-        for r in testing::rays_towards(d.centre, 2.5, 400, 37) {
-            if let Some(h) = d.intersect(&r, 0.0, f64::INFINITY) {
-                assert!(b.contains(h.point), "{:?} outside {b:?}", h.point);
-                hits += 1;
-            }
-        }
+        let hits =
+            testing::check_bounds_hold_hits(&d, &testing::rays_towards(d.centre, 2.5, 400, 37));
         assert!(hits > 100, "{hits}");
     }
 

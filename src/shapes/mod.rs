@@ -389,6 +389,19 @@ pub(crate) mod testing {
             .collect()
     }
 
+    /// Every nearest hit lies in the shape's box; returns how many rays hit.
+    pub fn check_bounds_hold_hits(shape: &dyn Shape, rays: &[Ray]) -> usize {
+        let b = shape.bounds();
+        let mut hits = 0;
+        for r in rays {
+            if let Some(h) = shape.intersect(r, 0.0, f64::INFINITY) {
+                assert!(b.contains(h.point), "{:?} outside {b:?}", h.point);
+                hits += 1;
+            }
+        }
+        hits
+    }
+
     /// The nearest hit must be the first of the crossings in range, and a ray
     /// leaving the surface from the hit must not hit it again at once.
     pub fn check_consistency(shape: &dyn Shape, rays: &[Ray]) {

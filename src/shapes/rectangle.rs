@@ -199,13 +199,10 @@ mod tests {
         assert!(!r.is_solid());
         let b = r.bounds();
         assert_eq!(b, Aabb::new(DVec3::ZERO, DVec3::new(5.0, 2.0, 0.0)));
-        let mut hits = 0;
-        for ray in testing::rays_towards(DVec3::new(2.5, 1.0, 0.0), 1.5, 400, 41) {
-            if let Some(h) = r.intersect(&ray, 0.0, f64::INFINITY) {
-                assert!(b.contains(h.point), "{:?} outside {b:?}", h.point);
-                hits += 1;
-            }
-        }
+        let hits = testing::check_bounds_hold_hits(
+            &r,
+            &testing::rays_towards(DVec3::new(2.5, 1.0, 0.0), 1.5, 400, 41),
+        );
         assert!(hits > 100, "{hits}");
     }
 
