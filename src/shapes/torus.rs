@@ -46,27 +46,13 @@ impl Torus {
     }
 
     fn roots(&self, ray: &Ray, lo: f64, hi: f64, mut visit: impl FnMut(f64) -> bool) {
-        let Some((a, b)) = self.bounds.clip(ray, lo, hi) else {
+        let Some((mid, h, o, d)) = self.chord(ray, lo, hi) else {
             return;
         };
-        let (mid, h) = (0.5 * (a + b), 0.5 * (b - a));
-        if h.is_nan() || h <= 0.0 {
+        if self.chord_misses(o, d) {
             return;
         }
-        let o = ray.at(mid);
-        let d = ray.dir * h;
-        let (r2, rr2) = (self.major * self.major, self.minor * self.minor);
-        let qa = d.dot(d);
-        let qb = 2.0 * o.dot(d);
-        let qc = o.dot(o) + r2 - rr2;
-        let k = 4.0 * r2;
-        let c = [
-            qc * qc - k * (o.x * o.x + o.z * o.z),
-            2.0 * qb * qc - k * 2.0 * (o.x * d.x + o.z * d.z),
-            qb * qb + 2.0 * qa * qc - k * (d.x * d.x + d.z * d.z),
-            2.0 * qa * qb,
-            qa * qa,
-        ];
+        let c = self.quartic(o, d);
         if no_root_in_unit(&c) {
             return;
         }
@@ -74,6 +60,62 @@ impl Torus {
             let t = mid + s * h;
             t > lo && t < hi && visit(t)
         });
+    }
+
+    /// The ray clipped to the box, as (mid, h, o, d): the chord is
+    /// o + s·d for s in [−1, 1], o = ray.at(mid), d = dir·h.
+    fn chord(&self, ray: &Ray, lo: f64, hi: f64) -> Option<(f64, f64, DVec3, DVec3)> {
+        let (a, b) = self.bounds.clip(ray, lo, hi)?;
+        let (mid, h) = (0.5 * (a + b), 0.5 * (b - a));
+        if h.is_nan() || h <= 0.0 {
+            return None;
+        }
+        Some((mid, h, ray.at(mid), ray.dir * h))
+    }
+
+    /// The torus's equation along the chord o + s·d, as coefficients of
+    /// s⁰..s⁴.
+    fn quartic(&self, o: DVec3, d: DVec3) -> [f64; 5] {
+        let (r2, rr2) = (self.major * self.major, self.minor * self.minor);
+        let qa = d.dot(d);
+        let qb = 2.0 * o.dot(d);
+        let qc = o.dot(o) + r2 - rr2;
+        let k = 4.0 * r2;
+        [
+            qc * qc - k * (o.x * o.x + o.z * o.z),
+            2.0 * qb * qc - k * 2.0 * (o.x * d.x + o.z * d.z),
+            qb * qb + 2.0 * qa * qc - k * (d.x * d.x + d.z * d.z),
+            2.0 * qa * qb,
+            qa * qa,
+        ]
+    }
+
+    /// Whether the chord o + s·d, s in [−1, 1], surely misses the torus
+    /// because it stays outside the cylinder ρ = R + r about the y axis
+    /// (ρ² = x² + z²) or inside the hole ρ = R − r. The box lets through
+    /// its corners and the hole, and these tests cost a tenth of the
+    /// quartic's. ρ²(s) is a convex quadratic, least at its clamped vertex
+    /// and greatest at an end. It is asked of the same o and d that the
+    /// quartic is built from, whose magnitudes the box bounds, so a
+    /// relative margin of 1e-9 keeps rounding from losing a grazing root.
+    fn chord_misses(&self, o: DVec3, d: DVec3) -> bool {
+        let (big, small) = (self.major.abs(), self.minor.abs());
+        let rho2 = |s: f64| {
+            let (x, z) = (o.x + s * d.x, o.z + s * d.z);
+            x * x + z * z
+        };
+        let dxz = d.x * d.x + d.z * d.z;
+        let vertex = if dxz > 0.0 {
+            (-(o.x * d.x + o.z * d.z) / dxz).clamp(-1.0, 1.0)
+        } else {
+            0.0
+        };
+        let outer = big + small;
+        if rho2(vertex) > outer * outer * (1.0 + 1e-9) {
+            return true;
+        }
+        let inner = big - small;
+        inner > 0.0 && rho2(-1.0).max(rho2(1.0)) < inner * inner * (1.0 - 1e-9)
     }
 
     /// The outward normal (the gradient's half) at a point of the torus.
@@ -231,6 +273,63 @@ mod tests {
             assert!((h.t - w).abs() < 1e-9, "{xs:?}");
         }
         assert!(xs[0].normal.dot(r.dir) < 0.0 && xs[1].normal.dot(r.dir) > 0.0);
+    }
+
+    /// The cylinder tests before the quartic throw away only chords that
+    /// truly miss: whenever they reject one, the torus's equation keeps
+    /// one sign along it (sampled densely, and the quartic's own roots
+    /// found without the tests agree); and they do reject the chords
+    /// through the box's corners and through the hole, or they would cost
+    /// without saving anything.
+    #[test]
+    fn the_cylinder_tests_reject_only_chords_that_miss() {
+        let _watchdog = crate::watchdog::start();
+        let (big, small) = (2.0, 0.5);
+        let t = Torus::new(big, small, 0);
+        let f = |p: DVec3| {
+            let s = p.length_squared() + big * big - small * small;
+            s * s - 4.0 * big * big * (p.x * p.x + p.z * p.z)
+        };
+        let (mut corners, mut hole, mut kept_hits) = (0, 0, 0);
+        let mut rays = testing::rays_towards(DVec3::ZERO, 2.6, 3000, 11);
+        // Grazing the outer equator and the hole's wall, just outside and
+        // just inside: level rays past the outer equator, and vertical rays
+        // down the hole at distances ρ about R − r from the axis.
+        for k in 0..400 {
+            let e = (k as f64 - 200.0) * 1e-4;
+            let rho = big + small + e;
+            rays.push(Ray::new(DVec3::new(rho, 0.0, -10.0), DVec3::Z));
+            rays.push(Ray::new(DVec3::new(-10.0, 0.3 * e, rho), DVec3::X));
+            let rho = big - small + e;
+            rays.push(Ray::new(DVec3::new(rho * 0.6, 5.0, rho * 0.8), -DVec3::Y));
+        }
+        for r in &rays {
+            let Some((_, _, o, d)) = t.chord(r, f64::NEG_INFINITY, f64::INFINITY) else {
+                continue;
+            };
+            let sampled_root = (0..=4000)
+                .map(|i| f(o + d * (i as f64 / 2000.0 - 1.0)))
+                .collect::<Vec<_>>()
+                .windows(2)
+                .any(|w| w[0] * w[1] <= 0.0);
+            let roots = crate::implicit::solve::all_roots(&t.quartic(o, d), -1.0, 1.0, 1e-13);
+            if t.chord_misses(o, d) {
+                assert!(
+                    !sampled_root && roots.is_empty(),
+                    "{r:?} rejected: {roots:?}"
+                );
+                let ends = [o - d, o + d].map(|p| p.x.hypot(p.z));
+                if ends.iter().all(|&rho| rho < big - small) {
+                    hole += 1;
+                } else {
+                    corners += 1;
+                }
+            } else if !roots.is_empty() {
+                kept_hits += 1;
+            }
+        }
+        assert!(corners > 50 && hole > 50, "corners {corners}, hole {hole}");
+        assert!(kept_hits > 500, "{kept_hits}");
     }
 
     #[test]

@@ -105,13 +105,26 @@ static RATIO: [[[f64; 13]; 13]; 13] = {
 /// that enter a surface's box but miss the surface stop here. Only up to
 /// degree 12, where the change of basis is accurate; `false` means "maybe".
 pub fn no_root_in_unit(c: &[f64]) -> bool {
-    let n = c.len();
-    if !(2..=13).contains(&n) {
-        return false;
+    // The torus's quartic and the sextic's degree 6 get their own copies
+    // with the sizes known, which the compiler unrolls: the same
+    // operations in the same order, so the same answers, at about half the
+    // instructions of the loops sized at run time.
+    match c.len() {
+        5 => no_root_in_unit_sized::<5>(c),
+        7 => no_root_in_unit_sized::<7>(c),
+        2..=13 => no_root_in_unit_sized::<13>(c),
+        _ => false,
     }
+}
+
+/// [`no_root_in_unit`] for up to `N` coefficients (`c.len()` in 2..=N,
+/// N ≤ 13).
+#[inline(always)]
+fn no_root_in_unit_sized<const N: usize>(c: &[f64]) -> bool {
+    let n = c.len();
     let deg = n - 1;
     // q(u) = p(2u − 1): Taylor shift by −1, then scale by 2^j.
-    let mut q = [0.0f64; 13];
+    let mut q = [0.0f64; N];
     q[..n].copy_from_slice(c);
     for i in 0..deg {
         for j in (i..deg).rev() {
@@ -206,6 +219,10 @@ struct Cascade<const N: usize> {
 }
 
 impl<const N: usize> Cascade<N> {
+    // Inlined, so that the state (a few hundred bytes) is built where it
+    // stays rather than built and then copied: the copy cost as much as
+    // a tenth of a quartic's solve.
+    #[inline(always)]
     fn new(c: &[f64], lo: f64, hi: f64, eps: f64) -> Self {
         let deg = c.len() - 1;
         debug_assert!((3..N).contains(&deg));
