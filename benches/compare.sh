@@ -4,7 +4,7 @@
 #
 #   benches/compare.sh                 # every benchmark scene + Embree, 1000x1000, 3 runs each
 #   RUNS=1 SIZE=300 benches/compare.sh # a quick look
-#   SCENES="torus sextic" EMBREE=none benches/compare.sh
+#   SCENES="torus torus_native sextic" EMBREE=none benches/compare.sh
 #   SCENES="glass soft dof aa many" benches/compare.sh   # the round-2 scenes
 #
 # For each scene it renders POV-Ray's version (../shared/peers/povray/run.sh,
@@ -22,7 +22,7 @@
 #
 # Knobs: PEER [../shared/peers/povray], RUNS [3], SIZE [1000], THREADS [2],
 # REUSE_POV [0; 1 reads POV-Ray's last results instead of running it again],
-# SCENES [all ten], EMBREE [path to bunny_embree; built when missing; `none`
+# SCENES [all eleven], EMBREE [path to bunny_embree; built when missing; `none`
 # skips Embree], EMBREE_DIR [/tmp/embree-peer], PLY [../shared/data/bunny.ply]
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -30,7 +30,7 @@ PEER="${PEER:-$ROOT/../shared/peers/povray}"
 RUNS="${RUNS:-3}"
 SIZE="${SIZE:-1000}"
 THREADS="${THREADS:-2}"
-SCENES="${SCENES:-bunny bunny_flat torus sextic csg glass soft dof aa many}"
+SCENES="${SCENES:-bunny bunny_flat torus torus_native sextic csg glass soft dof aa many}"
 EMBREE_DIR="${EMBREE_DIR:-/tmp/embree-peer}"
 EMBREE="${EMBREE:-$EMBREE_DIR/bunny_embree}"
 PLY="${PLY:-$ROOT/../shared/data/bunny.ply}"
@@ -39,6 +39,8 @@ mkdir -p "$OUT"
 
 pov_name() {
   case "$1" in
+    # torus is the implicit quartic, against POV-Ray's poly + sturm;
+    # torus_native is our torus shape, against its native torus.
     torus) echo torus_poly_sturm ;;
     # We trace the whole ray tree (no adc_bailout): POV-Ray's glass_full.
     glass) echo glass_full ;;

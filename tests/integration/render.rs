@@ -212,3 +212,27 @@ plane {{ normal <0, 0, -1>  offset -1  material {{ colour rgb({}, {}, {})  refle
         }
     }
 }
+
+/// The two torus benchmarks, the implicit quartic (turned and lifted) and
+/// the torus shape, are one picture: two routes to one surface, through
+/// the equation compiler and the shape's own chord tests.
+#[test]
+fn the_torus_benchmarks_implicit_and_native_agree() {
+    let _watchdog = crate::watchdog::start();
+    let root = project_root();
+    let size = Some((120, 120));
+    let implicit = render_path(&root.join("benches/scenes/torus.rt"), size, 2);
+    let native = render_path(&root.join("benches/scenes/torus_native.rt"), size, 2);
+    let gold = native
+        .pixels
+        .iter()
+        .filter(|p| p[0] > 0.3 && p[2] < 0.5 * p[0])
+        .count();
+    assert!(
+        gold > 1000,
+        "the gold torus fills part of the picture: {gold}"
+    );
+    // A silhouette pixel may fall either way between the two routes.
+    let differing = pixels_differing(&implicit, &native, 1e-3);
+    assert!(differing <= 3, "{differing} pixels differ");
+}
