@@ -338,13 +338,13 @@ fn reason(e: &(dyn std::error::Error + 'static)) -> String {
 
 /// Encodes the film as 8-bit RGB with the transfer curve.
 pub fn to_rgb8(film: &Film, transfer: Transfer) -> image::RgbImage {
-    let mut lut_cache = Vec::with_capacity(film.pixels.len() * 3);
-    for p in &film.pixels {
-        for c in p {
-            lut_cache.push((transfer.encode(*c as f64) * 255.0).round() as u8);
+    let mut bytes = vec![0u8; film.pixels.len() * 3];
+    for (out, p) in bytes.chunks_exact_mut(3).zip(&film.pixels) {
+        for (o, &c) in out.iter_mut().zip(p) {
+            *o = transfer.encode8(c as f64);
         }
     }
-    image::RgbImage::from_raw(film.width, film.height, lut_cache)
+    image::RgbImage::from_raw(film.width, film.height, bytes)
         .expect("film holds width × height pixels")
 }
 

@@ -300,7 +300,7 @@ fn check_cover(tiles: &[Named], w: u32, h: u32) -> Result<(), Failure> {
 
 /// The value a full render's 8-bit encoder gives a linear value.
 fn encode8(c: f32, transfer: crate::scene::Transfer) -> u8 {
-    (transfer.encode(c as f64) * 255.0).round() as u8
+    transfer.encode8(c as f64)
 }
 
 type Merged = (Pixels, (u32, u32), Option<Stamp>);
