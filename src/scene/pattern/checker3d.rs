@@ -2,7 +2,7 @@
 //! (POV-Ray's `checker`); the cube [0, s)³ is 0 (`a`), its six neighbours
 //! 1 (`b`): the value is (⌊x/s⌋ + ⌊y/s⌋ + ⌊z/s⌋) mod 2.
 
-use super::checker::CELL_NUDGE;
+use super::checker::{CELL_NUDGE, floor_i64};
 use crate::geometry::DVec3;
 
 #[derive(Clone, Debug, PartialEq)]
@@ -12,11 +12,11 @@ pub struct Checker3d {
 
 impl Checker3d {
     pub fn value(&self, p: DVec3) -> f64 {
-        let c = (p / self.size + DVec3::splat(CELL_NUDGE)).floor();
+        let c = p / self.size + DVec3::splat(CELL_NUDGE);
         // Wrapping keeps the parity where huge points saturate.
-        let i = (c.x as i64)
-            .wrapping_add(c.y as i64)
-            .wrapping_add(c.z as i64);
+        let i = floor_i64(c.x)
+            .wrapping_add(floor_i64(c.y))
+            .wrapping_add(floor_i64(c.z));
         if i.rem_euclid(2) == 0 { 0.0 } else { 1.0 }
     }
 }
