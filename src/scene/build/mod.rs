@@ -162,6 +162,8 @@ struct Builder<'p> {
     /// Object values built so far, by (value, default material, CSG
     /// context): each is built once and shared by its placements.
     instances: HashMap<InstanceKey, Vec<Arc<dyn crate::shapes::Shape>>>,
+    /// Plain materials added so far, by their numbers: equal ones share an id.
+    plain_materials: HashMap<materials::PlainKey, super::MaterialId>,
 }
 
 /// An object value built for placements: (the value's address, its
@@ -220,6 +222,7 @@ impl<'p> Builder<'p> {
             trace: None,
             reported: Default::default(),
             instances: HashMap::new(),
+            plain_materials: HashMap::new(),
         }
     }
 
