@@ -778,7 +778,7 @@ fn call(
 /// worked out to a value before the builder.
 pub fn is_closed(names: &dyn Names, e: &Expr) -> bool {
     match &e.kind {
-        ExprKind::Name(n) => names.lookup(n).is_some() || n == "pi" || named_colour(n).is_some(),
+        ExprKind::Name(n) => names.lookup(n).is_some() || &**n == "pi" || named_colour(n).is_some(),
         ExprKind::Number(_) | ExprKind::Hex(_) | ExprKind::Value(_) | ExprKind::Bound(..) => true,
         ExprKind::Vector(v) | ExprKind::List(v) => v.iter().all(|p| is_closed(names, p)),
         ExprKind::Call { args, named, .. } => {

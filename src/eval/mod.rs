@@ -481,9 +481,8 @@ impl<'p> Expander<'p> {
                             Placed::Done
                         };
                     }
-                    let name = Spanned::new(n.clone(), e.span);
                     return self.place(
-                        &name,
+                        e.span,
                         &frag.items,
                         !frag.is_material() && crate::scene::is_object(frag.head()),
                         next_block,
@@ -539,13 +538,12 @@ impl<'p> Expander<'p> {
                             Placed::Done
                         };
                     };
-                    let name = Spanned::new(name.node.clone(), e.span);
                     let frag = Fragment {
                         items: made,
                         span: e.span,
                     };
                     return self.place(
-                        &name,
+                        e.span,
                         &frag.items,
                         true,
                         next_block,
@@ -580,7 +578,7 @@ impl<'p> Expander<'p> {
     #[allow(clippy::too_many_arguments)]
     fn place(
         &self,
-        name: &Spanned<String>,
+        at: Span,
         items: &[Item],
         object: bool,
         next_block: Option<&Block>,
@@ -594,7 +592,7 @@ impl<'p> Expander<'p> {
             self.expand(&b.items, &block_scope(scope, b), false, &mut inner, errors);
             out.push(Item::Value(Expr {
                 kind: ExprKind::Name("group".into()),
-                span: name.span,
+                span: at,
             }));
             out.push(Item::Block(Block {
                 items: inner,
@@ -638,7 +636,7 @@ impl<'p> Expander<'p> {
             return Expr {
                 kind: match v {
                     Some(v) => ExprKind::Value(v),
-                    None => ExprKind::Bound(String::new(), None),
+                    None => ExprKind::Bound("".into(), None),
                 },
                 span: e.span,
             };
