@@ -5,7 +5,7 @@
 use super::*;
 
 impl Builder<'_> {
-    pub(super) fn named_material(&mut self, kw: &Spanned<String>, items: &[Item], i: &mut usize) {
+    pub(super) fn named_material(&mut self, kw: &Spanned<&str>, items: &[Item], i: &mut usize) {
         let Some(name) = items.get(*i).and_then(Item::as_name) else {
             self.err(
                 Error::new(kw.span, "a `material` statement needs a name and a block")
@@ -16,7 +16,8 @@ impl Builder<'_> {
         };
         let name = Spanned::new(name.node.to_string(), name.span);
         *i += 1;
-        let Some(block) = self.block_after(&name, items, i) else {
+        let Some(block) = self.block_after(&Spanned::new(name.node.as_str(), name.span), items, i)
+        else {
             return;
         };
         let m = self.material_block(block);

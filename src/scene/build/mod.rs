@@ -295,13 +295,12 @@ impl<'p> Builder<'p> {
                 );
                 continue;
             };
-            let kw = Spanned::new(kw.node.to_string(), kw.span);
-            match kw.node.as_str() {
+            match kw.node {
                 "camera" | "render" | "light" | "environment" => {
                     let Some(block) = self.block_after(&kw, items, &mut i) else {
                         continue;
                     };
-                    match kw.node.as_str() {
+                    match kw.node {
                         "camera" => self.camera(&kw, block),
                         "render" => self.render(&kw, block),
                         "environment" => self.environment(&kw, block),
@@ -335,7 +334,7 @@ impl<'p> Builder<'p> {
     /// The `{ … }` after a statement keyword.
     fn block_after<'a>(
         &mut self,
-        kw: &Spanned<String>,
+        kw: &Spanned<&str>,
         items: &'a [Item],
         i: &mut usize,
     ) -> Option<&'a Block> {
@@ -369,7 +368,7 @@ impl<'p> Builder<'p> {
         }
     }
 
-    fn once(&mut self, kw: &Spanned<String>, which: &'static str) -> bool {
+    fn once(&mut self, kw: &Spanned<&str>, which: &'static str) -> bool {
         if let Some(first) = self.singletons.get(which) {
             let first = *first;
             self.err(

@@ -263,7 +263,8 @@ pub const OCCLUSION: Schema = Schema {
 /// A parameter as written: its (canonical) name and its values.
 #[derive(Clone, Debug)]
 pub struct Param {
-    pub name: Spanned<String>,
+    /// The schema's own name (static: no String per parameter read).
+    pub name: Spanned<&'static str>,
     pub values: Vec<Item>,
 }
 
@@ -325,7 +326,7 @@ impl Params {
     pub fn take_transforms(&mut self) -> Vec<Param> {
         let (t, rest) = std::mem::take(&mut self.list)
             .into_iter()
-            .partition(|p| is_transform(&p.name.node));
+            .partition(|p| is_transform(p.name.node));
         self.list = rest;
         t
     }
@@ -411,7 +412,7 @@ pub fn read(
                         .last()
                         .is_some_and(|v| v.span().end <= item.span().start) =>
                 {
-                    let spec = schema.get(&prev.name.node);
+                    let spec = schema.get(prev.name.node);
                     e.help(format!(
                         "`{}` takes {}; this is one value too many",
                         prev.name.node,
@@ -437,9 +438,9 @@ pub fn read(
             });
             continue;
         }
-        let canon = canonical(&name.node).to_string();
-        if schema.children && objects::is_object(&canon) {
-            let string = if objects::takes_string(&canon) {
+        let canon = canonical(&name.node);
+        if schema.children && objects::is_object(canon) {
+            let string = if objects::takes_string(canon) {
                 match items.get(i) {
                     Some(s @ Item::Str { .. }) => {
                         i += 1;
@@ -454,7 +455,7 @@ pub fn read(
                 Some(Item::Block(b)) => {
                     i += 1;
                     out.children.push(Child {
-                        kw: Spanned::new(canon, name.span),
+                        kw: Spanned::new(canon.to_string(), name.span),
                         string,
                         block: b.clone(),
                         trace: trace_at(i - 1),
@@ -468,7 +469,7 @@ pub fn read(
             }
             continue;
         }
-        let Some(spec) = schema.get(&canon) else {
+        let Some(spec) = schema.get(canon) else {
             let mut e = Error::new(
                 name.span,
                 format!("unknown parameter `{}` in `{owner}`", name.node),
@@ -476,12 +477,10 @@ pub fn read(
             .label("not a parameter here");
             e = match did_you_mean(&name.node, schema.names()) {
                 Some(h) => e.help(h),
-                None if schema.object && matches!(canon.as_str(), "colour" | "reflect") => {
-                    e.help(format!(
-                        "`{}` belongs in a material: `material {{ {} … }}`",
-                        name.node, name.node
-                    ))
-                }
+                None if schema.object && matches!(canon, "colour" | "reflect") => e.help(format!(
+                    "`{}` belongs in a material: `material {{ {} … }}`",
+                    name.node, name.node
+                )),
                 None => e.help(format!("`{owner}` takes: {}", schema.names().join(", "))),
             };
             errors.push(e);
@@ -582,7 +581,7 @@ pub fn read(
             );
             continue;
         }
-        if !is_transform(&canon)
+        if !is_transform(canon)
             && let Some(first) = out.list.iter().find(|p| p.name.node == canon)
         {
             errors.push(
@@ -597,7 +596,7 @@ pub fn read(
             continue;
         }
         out.list.push(Param {
-            name: Spanned::new(canon, name.span),
+            name: Spanned::new(spec.name, name.span),
             values,
         });
     }
@@ -636,7 +635,7 @@ mod tests {
         assert!(e.is_empty(), "{e:?}");
         assert!(p.take("centre").is_some(), "`center` is read as `centre`");
         assert_eq!(p.take("radius").unwrap().values.len(), 1);
-        let t: Vec<String> = p
+        let t: Vec<&str> = p
             .take_transforms()
             .into_iter()
             .map(|q| q.name.node)
