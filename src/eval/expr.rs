@@ -340,9 +340,15 @@ pub fn eval(names: &dyn Names, e: &Expr, errors: &mut Vec<Error>) -> Option<Valu
             if let Some(v) = names.call(e, errors) {
                 return v;
             }
-            let mut vals = Vec::with_capacity(args.len());
+            // Every argument is evaluated (and its mistakes reported)
+            // before any is found missing.
+            let mut got = Vec::with_capacity(args.len());
+            let mut all = true;
             for a in args {
-                vals.push(eval(names, a, errors));
+                match eval(names, a, errors) {
+                    Some(v) => got.push(v),
+                    None => all = false,
+                }
             }
             let Some(&(_, arity)) = FUNCTIONS.iter().find(|(f, _)| *f == name.node) else {
                 let user = names.functions();
@@ -370,7 +376,7 @@ pub fn eval(names: &dyn Names, e: &Expr, errors: &mut Vec<Error>) -> Option<Valu
                 );
                 return None;
             }
-            if vals.len() != arity {
+            if args.len() != arity {
                 errors.push(
                     Error::new(
                         e.span,
@@ -378,16 +384,15 @@ pub fn eval(names: &dyn Names, e: &Expr, errors: &mut Vec<Error>) -> Option<Valu
                             "`{}` takes {arity} argument{}, not {}",
                             name.node,
                             if arity == 1 { "" } else { "s" },
-                            vals.len()
+                            args.len()
                         ),
                     )
-                    .label(format!("{} given", vals.len())),
+                    .label(format!("{} given", args.len())),
                 );
                 return None;
             }
-            let mut got = Vec::with_capacity(arity);
-            for v in vals {
-                got.push(v?);
+            if !all {
+                return None;
             }
             return call(&name.node, &got, e, args, errors);
         }

@@ -163,7 +163,7 @@ struct Builder<'p> {
     /// context): each is built once and shared by its placements.
     instances: HashMap<InstanceKey, Vec<Arc<dyn crate::shapes::Shape>>>,
     /// Plain materials added so far, by their numbers: equal ones share an id.
-    plain_materials: HashMap<materials::PlainKey, super::MaterialId>,
+    plain_materials: HashMap<materials::PlainKey, super::MaterialId, materials::WordHash>,
 }
 
 /// An object value built for placements: (the value's address, its
@@ -222,7 +222,7 @@ impl<'p> Builder<'p> {
             trace: None,
             reported: Default::default(),
             instances: HashMap::new(),
-            plain_materials: HashMap::new(),
+            plain_materials: HashMap::default(),
         }
     }
 

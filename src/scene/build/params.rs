@@ -324,6 +324,10 @@ impl Params {
 
     /// Takes every transform, in the order written.
     pub fn take_transforms(&mut self) -> Vec<Param> {
+        // Most objects have none: then nothing is split into new lists.
+        if !self.list.iter().any(|p| is_transform(p.name.node)) {
+            return Vec::new();
+        }
         let (t, rest) = std::mem::take(&mut self.list)
             .into_iter()
             .partition(|p| is_transform(p.name.node));
