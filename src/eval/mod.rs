@@ -75,6 +75,12 @@ impl Names for At<'_, '_> {
         }
     }
 
+    fn binds(&self, name: &str) -> bool {
+        self.scope
+            .with(name, |b| matches!(b, Binding::Value(_)))
+            .unwrap_or(false)
+    }
+
     fn call(&self, call: &Expr, errors: &mut Vec<Error>) -> Option<Option<Value>> {
         let ExprKind::Call { name, .. } = &call.kind else {
             return None;
