@@ -241,10 +241,14 @@ pub(super) struct WordHasher(u64);
 
 impl std::hash::Hasher for WordHasher {
     fn write(&mut self, bytes: &[u8]) {
-        for c in bytes.chunks(8) {
-            let mut w = [0u8; 8];
-            w[..c.len()].copy_from_slice(c);
-            self.write_u64(u64::from_le_bytes(w));
+        // Whole words as words: a copy of a slice of unknown length is a
+        // call to memcpy.
+        let mut words = bytes.chunks_exact(8);
+        for w in &mut words {
+            self.write_u64(<[u8; 8]>::try_from(w).map_or(0, u64::from_le_bytes));
+        }
+        for &b in words.remainder() {
+            self.write_u64(u64::from(b));
         }
     }
 

@@ -424,6 +424,16 @@ impl<'p> Builder<'p> {
     }
 
     fn vec3(&mut self, item: &Item) -> Option<(DVec3, Span)> {
+        // A 3-vector the evaluator worked out (a loop's `centre <…>`) is
+        // read where it lies rather than copied out by `value`.
+        if let Item::Value(crate::lang::ast::Expr {
+            kind: crate::lang::ast::ExprKind::Value(Value::Vector(v)),
+            span,
+        }) = item
+            && let [x, y, z] = v[..]
+        {
+            return Some((DVec3::new(x, y, z), *span));
+        }
         match self.value(item, "a 3-vector `<x, y, z>`")? {
             (Value::Vector(v), s) if v.len() == 3 => Some((DVec3::new(v[0], v[1], v[2]), s)),
             (other, s) => {
