@@ -526,6 +526,10 @@ impl<'p> Expander<'p> {
                     if crate::scene::is_object(n) && !self.count_object(e.span, errors) {
                         return Placed::Done;
                     }
+                    // A keyword of the builder's (`sphere`, `radius`): as
+                    // written, without looking it up a second time.
+                    out.push(Item::Value(e.clone()));
+                    return Placed::Done;
                 }
             },
             ExprKind::Call { name, .. } => {
