@@ -114,7 +114,7 @@ impl Builder<'_> {
         };
         let image = match p.take("image") {
             None => Some(None),
-            Some(q) => match &q.values[0] {
+            Some(q) => match &*q.values[0] {
                 Item::Str { text, content, .. } => self.sky_image(text, *content).map(Some),
                 other => {
                     self.err(

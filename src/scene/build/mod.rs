@@ -493,7 +493,7 @@ impl<'p> Builder<'p> {
 
     /// Reads a block against a schema, reporting unknown, duplicate and
     /// incomplete parameters.
-    fn params(&mut self, owner: &str, block: &Block, schema: &Schema) -> Params {
+    fn params<'b>(&mut self, owner: &str, block: &'b Block, schema: &Schema) -> Params<'b> {
         params::read(owner, block, schema, &self.env, &mut self.errors)
     }
 

@@ -358,11 +358,11 @@ impl Builder<'_> {
         let mut out = Vec::new();
         for c in children {
             let shapes = self.traced(c.trace.as_ref(), |b| match &c.instance {
-                Some(f) => b.instance(&c.kw, f, &c.block, ctx),
+                Some(f) => b.instance(&c.kw, f, c.block, ctx),
                 None => b.object(
                     &Spanned::new(c.kw.node.as_str(), c.kw.span),
-                    c.string.as_ref(),
-                    &c.block,
+                    c.string,
+                    c.block,
                     ctx,
                 ),
             });
@@ -860,7 +860,7 @@ impl Builder<'_> {
             }
             "mirror" => self.axis(&v[0]).map(Transform::mirror),
             "matrix" => {
-                let Item::List(list) = &v[0] else {
+                let Item::List(list) = &*v[0] else {
                     self.err(
                         Error::new(
                             v[0].span(),
