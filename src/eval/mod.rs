@@ -152,6 +152,22 @@ impl<'p> Expander<'p> {
         if self.stopped.get() {
             return false;
         }
+        // Every expression and item takes a step: the common case (no
+        // cancel check due, budget left) is kept apart from the rest, whose
+        // message building made each call save and restore registers.
+        let n = self.steps.get();
+        if !n.is_multiple_of(4096) && n < self.options.limits.steps {
+            self.steps.set(n + 1);
+            return true;
+        }
+        self.step_checked(span, errors)
+    }
+
+    /// [`Expander::step`] when the cancel flag is due a look or the budget
+    /// may be spent.
+    #[cold]
+    #[inline(never)]
+    fn step_checked(&self, span: Span, errors: &mut Vec<Error>) -> bool {
         // Looked at once every 4096 steps: the load is not free.
         if self.steps.get().is_multiple_of(4096)
             && let Some(c) = &self.options.cancel
