@@ -45,6 +45,11 @@ pub struct Options {
     pub accel: Option<crate::accel::Accel>,
 }
 
+/// Evaluation steps after which a top-level loop hands what it made to
+/// the sink: small enough that a part's items stay in the cache and few
+/// exist at once, large enough that a part is not one tiny item.
+const PART_STEPS: u64 = 4096;
+
 /// The evaluated program.
 pub struct Evaluated {
     pub items: Vec<Item>,
@@ -152,12 +157,18 @@ pub fn evaluate_in_parts_bound(
             span,
         } = &items[start]
         {
-            // A top-level loop hands its objects over a few hundred
-            // iterations at a time.
+            // A top-level loop hands its objects over every few thousand
+            // evaluation steps: counting iterations alone would hold a
+            // whole nested loop's objects per iteration (an outer loop of
+            // 400 around an inner one of 250 kept 64,000 spheres' items
+            // alive at once), and steps grow with what was made.
             let mut pending = Vec::new();
+            let mut flushed_at = ex.steps.get();
             let mut emit = |it: Item| {
                 pending.push(it);
-                if pending.len() >= 256 {
+                let steps = ex.steps.get();
+                if pending.len() >= 256 || steps - flushed_at >= PART_STEPS {
+                    flushed_at = steps;
                     sink(std::mem::take(&mut pending), &ex.known.borrow());
                 }
             };

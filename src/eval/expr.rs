@@ -143,6 +143,11 @@ pub trait Names {
     /// A bound name's value: `Some(None)` when it is bound to a value
     /// whose definition failed (already reported), `None` when unbound.
     fn lookup(&self, name: &str) -> Option<Option<Value>>;
+    /// Whether `name` is bound to a value ([`Names::lookup`] without
+    /// copying the value out).
+    fn binds(&self, name: &str) -> bool {
+        self.lookup(name).is_some()
+    }
     /// Calls a user function, `None` when there is none of that name
     /// (then the built-ins are tried).
     fn call(&self, call: &Expr, errors: &mut Vec<Error>) -> Option<Option<Value>>;
@@ -334,15 +339,28 @@ pub fn eval(names: &dyn Names, e: &Expr, errors: &mut Vec<Error>) -> Option<Valu
         ExprKind::Binary { op, lhs, rhs } => {
             let a = eval(names, lhs, errors);
             let b = eval(names, rhs, errors);
+            // Arithmetic on two numbers is most of a scene's expressions:
+            // straight to the number (as `binary` would give it).
+            if let (Some(Value::Number(x)), Some(Value::Number(y))) = (&a, &b)
+                && let Some(v) = arithmetic(*op, *x, *y)
+            {
+                return finite(Value::Number(v), e, errors);
+            }
             return binary(*op, a?, b?, e, errors);
         }
         ExprKind::Call { name, args, named } => {
             if let Some(v) = names.call(e, errors) {
                 return v;
             }
-            let mut vals = Vec::with_capacity(args.len());
+            // Every argument is evaluated (and its mistakes reported)
+            // before any is found missing.
+            let mut got = Vec::with_capacity(args.len());
+            let mut all = true;
             for a in args {
-                vals.push(eval(names, a, errors));
+                match eval(names, a, errors) {
+                    Some(v) => got.push(v),
+                    None => all = false,
+                }
             }
             let Some(&(_, arity)) = FUNCTIONS.iter().find(|(f, _)| *f == name.node) else {
                 let user = names.functions();
@@ -370,7 +388,7 @@ pub fn eval(names: &dyn Names, e: &Expr, errors: &mut Vec<Error>) -> Option<Valu
                 );
                 return None;
             }
-            if vals.len() != arity {
+            if args.len() != arity {
                 errors.push(
                     Error::new(
                         e.span,
@@ -378,16 +396,15 @@ pub fn eval(names: &dyn Names, e: &Expr, errors: &mut Vec<Error>) -> Option<Valu
                             "`{}` takes {arity} argument{}, not {}",
                             name.node,
                             if arity == 1 { "" } else { "s" },
-                            vals.len()
+                            args.len()
                         ),
                     )
-                    .label(format!("{} given", vals.len())),
+                    .label(format!("{} given", args.len())),
                 );
                 return None;
             }
-            let mut got = Vec::with_capacity(arity);
-            for v in vals {
-                got.push(v?);
+            if !all {
+                return None;
             }
             return call(&name.node, &got, e, args, errors);
         }
@@ -500,6 +517,21 @@ fn finite(v: Value, e: &Expr, errors: &mut Vec<Error>) -> Option<Value> {
         );
         None
     }
+}
+
+/// `x op y` for the operators that give a number and cannot fail here
+/// (`/` and `%` only by a divisor that is not 0); `None` for the rest,
+/// which [`binary`] handles and reports.
+fn arithmetic(op: BinOp, x: f64, y: f64) -> Option<f64> {
+    Some(match op {
+        BinOp::Add => x + y,
+        BinOp::Sub => x - y,
+        BinOp::Mul => x * y,
+        BinOp::Div if y != 0.0 => x / y,
+        BinOp::Pow => x.powf(y),
+        BinOp::Rem if y != 0.0 => x.rem_euclid(y),
+        _ => return None,
+    })
 }
 
 fn binary(op: BinOp, a: Value, b: Value, e: &Expr, errors: &mut Vec<Error>) -> Option<Value> {
@@ -778,7 +810,7 @@ fn call(
 /// worked out to a value before the builder.
 pub fn is_closed(names: &dyn Names, e: &Expr) -> bool {
     match &e.kind {
-        ExprKind::Name(n) => names.lookup(n).is_some() || n == "pi" || named_colour(n).is_some(),
+        ExprKind::Name(n) => names.binds(n) || &**n == "pi" || named_colour(n).is_some(),
         ExprKind::Number(_) | ExprKind::Hex(_) | ExprKind::Value(_) | ExprKind::Bound(..) => true,
         ExprKind::Vector(v) | ExprKind::List(v) => v.iter().all(|p| is_closed(names, p)),
         ExprKind::Call { args, named, .. } => {

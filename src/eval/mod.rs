@@ -75,6 +75,12 @@ impl Names for At<'_, '_> {
         }
     }
 
+    fn binds(&self, name: &str) -> bool {
+        self.scope
+            .with(name, |b| matches!(b, Binding::Value(_)))
+            .unwrap_or(false)
+    }
+
     fn call(&self, call: &Expr, errors: &mut Vec<Error>) -> Option<Option<Value>> {
         let ExprKind::Call { name, .. } = &call.kind else {
             return None;
@@ -146,6 +152,22 @@ impl<'p> Expander<'p> {
         if self.stopped.get() {
             return false;
         }
+        // Every expression and item takes a step: the common case (no
+        // cancel check due, budget left) is kept apart from the rest, whose
+        // message building made each call save and restore registers.
+        let n = self.steps.get();
+        if !n.is_multiple_of(4096) && n < self.options.limits.steps {
+            self.steps.set(n + 1);
+            return true;
+        }
+        self.step_checked(span, errors)
+    }
+
+    /// [`Expander::step`] when the cancel flag is due a look or the budget
+    /// may be spent.
+    #[cold]
+    #[inline(never)]
+    fn step_checked(&self, span: Span, errors: &mut Vec<Error>) -> bool {
         // Looked at once every 4096 steps: the load is not free.
         if self.steps.get().is_multiple_of(4096)
             && let Some(c) = &self.options.cancel
@@ -481,9 +503,8 @@ impl<'p> Expander<'p> {
                             Placed::Done
                         };
                     }
-                    let name = Spanned::new(n.clone(), e.span);
                     return self.place(
-                        &name,
+                        e.span,
                         &frag.items,
                         !frag.is_material() && crate::scene::is_object(frag.head()),
                         next_block,
@@ -521,6 +542,10 @@ impl<'p> Expander<'p> {
                     if crate::scene::is_object(n) && !self.count_object(e.span, errors) {
                         return Placed::Done;
                     }
+                    // A keyword of the builder's (`sphere`, `radius`): as
+                    // written, without looking it up a second time.
+                    out.push(Item::Value(e.clone()));
+                    return Placed::Done;
                 }
             },
             ExprKind::Call { name, .. } => {
@@ -539,13 +564,12 @@ impl<'p> Expander<'p> {
                             Placed::Done
                         };
                     };
-                    let name = Spanned::new(name.node.clone(), e.span);
                     let frag = Fragment {
                         items: made,
                         span: e.span,
                     };
                     return self.place(
-                        &name,
+                        e.span,
                         &frag.items,
                         true,
                         next_block,
@@ -580,7 +604,7 @@ impl<'p> Expander<'p> {
     #[allow(clippy::too_many_arguments)]
     fn place(
         &self,
-        name: &Spanned<String>,
+        at: Span,
         items: &[Item],
         object: bool,
         next_block: Option<&Block>,
@@ -594,7 +618,7 @@ impl<'p> Expander<'p> {
             self.expand(&b.items, &block_scope(scope, b), false, &mut inner, errors);
             out.push(Item::Value(Expr {
                 kind: ExprKind::Name("group".into()),
-                span: name.span,
+                span: at,
             }));
             out.push(Item::Block(Block {
                 items: inner,
@@ -638,7 +662,7 @@ impl<'p> Expander<'p> {
             return Expr {
                 kind: match v {
                     Some(v) => ExprKind::Value(v),
-                    None => ExprKind::Bound(String::new(), None),
+                    None => ExprKind::Bound("".into(), None),
                 },
                 span: e.span,
             };

@@ -44,6 +44,12 @@ impl Scope {
     }
 
     pub(super) fn get(&self, name: &str) -> Option<Binding> {
+        self.with(name, Binding::clone)
+    }
+
+    /// `f` of the innermost binding of `name`, if there is one: what a
+    /// caller wants to know of it without copying it out.
+    pub(super) fn with<R>(&self, name: &str, f: impl FnOnce(&Binding) -> R) -> Option<R> {
         let mut s = Some(self);
         while let Some(scope) = s {
             if let Some((_, b, _)) = scope
@@ -53,7 +59,7 @@ impl Scope {
                 .rev()
                 .find(|(n, ..)| **n == *name)
             {
-                return Some(b.clone());
+                return Some(f(b));
             }
             s = scope.parent.as_deref();
         }

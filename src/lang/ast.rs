@@ -183,7 +183,7 @@ impl Item {
             Item::Value(Expr {
                 kind: ExprKind::Name(n) | ExprKind::Bound(n, _),
                 span,
-            }) if !n.is_empty() => Some(Spanned::new(n.as_str(), *span)),
+            }) if !n.is_empty() => Some(Spanned::new(&**n, *span)),
             _ => None,
         }
     }
@@ -270,10 +270,14 @@ pub struct Expr {
     pub span: Span,
 }
 
+/// A name in an expression: shared, because the evaluator copies every
+/// keyword it passes on (`sphere`, `radius`, … once per loop iteration).
+pub type Name = std::sync::Arc<str>;
+
 #[derive(Clone, Debug, PartialEq)]
 pub enum ExprKind {
     Number(f64),
-    Name(String),
+    Name(Name),
     /// `#rrggbb`, already checked to be six hex digits.
     Hex([u8; 3]),
     /// `<a, b, …>` with any number of components.
@@ -300,7 +304,7 @@ pub enum ExprKind {
     /// A bound name the evaluator replaced by its value: still a name
     /// for the builder's reading of parameters (`rotate x 90`).
     /// `None` when its definition failed (already reported).
-    Bound(String, Option<crate::eval::expr::Value>),
+    Bound(Name, Option<crate::eval::expr::Value>),
     Binary {
         op: BinOp,
         lhs: Box<Expr>,
@@ -346,7 +350,7 @@ impl Expr {
                         ),
                         ..rest
                     };
-                    return Some((Spanned::new(n.clone(), lhs.span), rest));
+                    return Some((Spanned::new(n.to_string(), lhs.span), rest));
                 }
                 let (name, rest) = lhs.split_leading_name()?;
                 Some((

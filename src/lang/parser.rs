@@ -165,7 +165,7 @@ fn item(p: Pair<Rule>, at: Loc) -> Result<Item, Error> {
                 for c in value.into_inner() {
                     items.push(match c.as_rule() {
                         Rule::ident => Item::Value(Expr {
-                            kind: ExprKind::Name(c.as_str().to_string()),
+                            kind: ExprKind::Name(c.as_str().into()),
                             span: span_of(&c, at),
                         }),
                         _ => item(c, at)?,
@@ -502,7 +502,7 @@ fn primary(p: Pair<Rule>, at: Loc) -> Built {
         }
         Rule::ident => Ok((
             Expr {
-                kind: ExprKind::Name(p.as_str().to_string()),
+                kind: ExprKind::Name(p.as_str().into()),
                 span,
             },
             1,

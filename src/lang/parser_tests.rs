@@ -15,7 +15,7 @@ fn one(src: &str) -> Expr {
 fn show(e: &Expr) -> String {
     match &e.kind {
         ExprKind::Number(v) => format!("{v}"),
-        ExprKind::Name(n) => n.clone(),
+        ExprKind::Name(n) => n.to_string(),
         ExprKind::Hex(h) => format!("#{:02x}{:02x}{:02x}", h[0], h[1], h[2]),
         ExprKind::Vector(v) => {
             format!("<{}>", v.iter().map(show).collect::<Vec<_>>().join(","))
@@ -31,7 +31,7 @@ fn show(e: &Expr) -> String {
         ExprKind::List(v) => format!("[{}]", v.iter().map(show).collect::<Vec<_>>().join(",")),
         ExprKind::Index { base, index } => format!("{}[{}]", show(base), show(index)),
         ExprKind::Value(v) => format!("{v:?}"),
-        ExprKind::Bound(n, _) => n.clone(),
+        ExprKind::Bound(n, _) => n.to_string(),
     }
 }
 

@@ -105,7 +105,7 @@ impl Builder<'_> {
     /// `samples`.
     pub(super) fn area_light(
         &mut self,
-        kw: &Spanned<String>,
+        kw: &Spanned<&str>,
         p: &mut Params,
         local: Option<LightSurface>,
         material: MaterialId,

@@ -5,7 +5,7 @@
 use super::*;
 
 impl Builder<'_> {
-    pub(super) fn ambient(&mut self, kw: &Spanned<String>, items: &[Item], i: &mut usize) {
+    pub(super) fn ambient(&mut self, kw: &Spanned<&str>, items: &[Item], i: &mut usize) {
         let first = self.once(kw, "ambient");
         let Some(c) = items
             .get(*i)
@@ -53,7 +53,7 @@ impl Builder<'_> {
             .and_then(Item::as_name)
             .is_some_and(|n| n.node == "occlusion")
         {
-            let at = Spanned::new("occlusion".to_string(), items[*i].span());
+            let at = Spanned::new("occlusion", items[*i].span());
             *i += 1;
             if let Some(block) = self.block_after(&at, items, i) {
                 self.occlusion(block);
@@ -102,7 +102,7 @@ impl Builder<'_> {
     /// `environment { colour c  intensity k  samples n }`: light from every
     /// direction, and what camera rays that miss see unless a `background`
     /// is set.
-    pub(super) fn environment(&mut self, kw: &Spanned<String>, block: &Block) {
+    pub(super) fn environment(&mut self, kw: &Spanned<&str>, block: &Block) {
         if !self.once(kw, "environment") {
             return;
         }
@@ -114,7 +114,7 @@ impl Builder<'_> {
         };
         let image = match p.take("image") {
             None => Some(None),
-            Some(q) => match &q.values[0] {
+            Some(q) => match &*q.values[0] {
                 Item::Str { text, content, .. } => self.sky_image(text, *content).map(Some),
                 other => {
                     self.err(
@@ -179,7 +179,7 @@ impl Builder<'_> {
         Some(colour? * intensity?)
     }
 
-    pub(super) fn light(&mut self, kw: &Spanned<String>, block: &Block) {
+    pub(super) fn light(&mut self, kw: &Spanned<&str>, block: &Block) {
         let mut p = self.params("light", block, &params::LIGHT);
         let direction = p.take("direction");
         let position = match p.take("position") {
@@ -210,7 +210,7 @@ impl Builder<'_> {
     /// `look_at` and angles).
     pub(super) fn light_kind(
         &mut self,
-        kw: &Spanned<String>,
+        kw: &Spanned<&str>,
         p: &mut Params,
         direction: Option<Param>,
         position: Option<DVec3>,

@@ -5,7 +5,7 @@
 use super::*;
 
 impl Builder<'_> {
-    pub(super) fn named_material(&mut self, kw: &Spanned<String>, items: &[Item], i: &mut usize) {
+    pub(super) fn named_material(&mut self, kw: &Spanned<&str>, items: &[Item], i: &mut usize) {
         let Some(name) = items.get(*i).and_then(Item::as_name) else {
             self.err(
                 Error::new(kw.span, "a `material` statement needs a name and a block")
@@ -16,7 +16,8 @@ impl Builder<'_> {
         };
         let name = Spanned::new(name.node.to_string(), name.span);
         *i += 1;
-        let Some(block) = self.block_after(&name, items, i) else {
+        let Some(block) = self.block_after(&Spanned::new(name.node.as_str(), name.span), items, i)
+        else {
             return;
         };
         let m = self.material_block(block);
@@ -37,8 +38,19 @@ impl Builder<'_> {
     }
 
     pub(super) fn add_material(&mut self, m: Material) -> crate::scene::MaterialId {
+        // A loop that gives each of 100,000 spheres `material { colour … }`
+        // writes a few distinct materials many times: equal plain ones
+        // share one entry (a material is some 250 bytes).
+        let key = plain_key(&m);
+        if let Some(id) = key.and_then(|k| self.plain_materials.get(&k)) {
+            return *id;
+        }
         self.scene.materials.push(m);
-        (self.scene.materials.len() - 1) as crate::scene::MaterialId
+        let id = (self.scene.materials.len() - 1) as crate::scene::MaterialId;
+        if let Some(k) = key {
+            self.plain_materials.insert(k, id);
+        }
+        id
     }
 
     pub(super) fn material_block(&mut self, block: &Block) -> Option<Material> {
@@ -219,4 +231,108 @@ impl Builder<'_> {
         self.err(e);
         None
     }
+}
+
+/// FxHash's rotate-multiply over whole words, for [`PlainKey`]s: they are
+/// numbers already, and SipHash's guard against chosen keys (a fifth of
+/// the cost of a sphere's material) buys nothing for them.
+#[derive(Default)]
+pub(super) struct WordHasher(u64);
+
+impl std::hash::Hasher for WordHasher {
+    fn write(&mut self, bytes: &[u8]) {
+        // Whole words as words: a copy of a slice of unknown length is a
+        // call to memcpy.
+        let mut words = bytes.chunks_exact(8);
+        for w in &mut words {
+            self.write_u64(<[u8; 8]>::try_from(w).map_or(0, u64::from_le_bytes));
+        }
+        for &b in words.remainder() {
+            self.write_u64(u64::from(b));
+        }
+    }
+
+    fn write_u64(&mut self, x: u64) {
+        self.0 = (self.0.rotate_left(5) ^ x).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
+    }
+
+    fn finish(&self) -> u64 {
+        self.0
+    }
+}
+
+pub(super) type WordHash = std::hash::BuildHasherDefault<WordHasher>;
+
+/// Every number of a plain material, bit for bit: materials with equal
+/// keys are the same material in every respect.
+pub(super) type PlainKey = [u64; 28];
+
+/// The key of a material that can be shared, or none. Only plain ones
+/// (a solid colour, no pattern, no bumps) are shared: a CSG block moves
+/// hits that wear its own material id into its texture space, which
+/// changes nothing for a material that reads no position, but would for
+/// a pattern.
+fn plain_key(m: &Material) -> Option<PlainKey> {
+    // Destructured so that a new field cannot be left out of the key.
+    let Material {
+        texture,
+        reflect,
+        diffuse,
+        ambient,
+        phong,
+        mirror,
+        glossy,
+        refract,
+        emit,
+        pick,
+        normal,
+    } = m;
+    let Texture::Solid(c) = texture else {
+        return None;
+    };
+    if pick.is_some() || normal.is_some() {
+        return None;
+    }
+    let flag = |on: bool| if on { 1.0 } else { 0.0 };
+    let p = phong.unwrap_or(crate::scene::Phong {
+        colour: Colour::ZERO,
+        shininess: 0.0,
+    });
+    let d = refract.unwrap_or(crate::scene::Dielectric {
+        ior: 0.0,
+        filter: Colour::ZERO,
+        outside_ior: 0.0,
+        outside_filter: Colour::ZERO,
+    });
+    let all: [f64; 28] = [
+        c.x,
+        c.y,
+        c.z,
+        *reflect,
+        *diffuse,
+        *ambient,
+        flag(phong.is_some()),
+        p.colour.x,
+        p.colour.y,
+        p.colour.z,
+        p.shininess,
+        mirror.x,
+        mirror.y,
+        mirror.z,
+        flag(glossy.is_some()),
+        glossy.unwrap_or(0.0),
+        flag(refract.is_some()),
+        d.ior,
+        d.filter.x,
+        d.filter.y,
+        d.filter.z,
+        d.outside_ior,
+        d.outside_filter.x,
+        d.outside_filter.y,
+        d.outside_filter.z,
+        emit.x,
+        emit.y,
+        emit.z,
+    ];
+    Some(all.map(f64::to_bits))
 }

@@ -162,6 +162,8 @@ struct Builder<'p> {
     /// Object values built so far, by (value, default material, CSG
     /// context): each is built once and shared by its placements.
     instances: HashMap<InstanceKey, Vec<Arc<dyn crate::shapes::Shape>>>,
+    /// Plain materials added so far, by their numbers: equal ones share an id.
+    plain_materials: HashMap<materials::PlainKey, super::MaterialId, materials::WordHash>,
 }
 
 /// An object value built for placements: (the value's address, its
@@ -220,6 +222,7 @@ impl<'p> Builder<'p> {
             trace: None,
             reported: Default::default(),
             instances: HashMap::new(),
+            plain_materials: HashMap::default(),
         }
     }
 
@@ -292,13 +295,12 @@ impl<'p> Builder<'p> {
                 );
                 continue;
             };
-            let kw = Spanned::new(kw.node.to_string(), kw.span);
-            match kw.node.as_str() {
+            match kw.node {
                 "camera" | "render" | "light" | "environment" => {
                     let Some(block) = self.block_after(&kw, items, &mut i) else {
                         continue;
                     };
-                    match kw.node.as_str() {
+                    match kw.node {
                         "camera" => self.camera(&kw, block),
                         "render" => self.render(&kw, block),
                         "environment" => self.environment(&kw, block),
@@ -332,7 +334,7 @@ impl<'p> Builder<'p> {
     /// The `{ … }` after a statement keyword.
     fn block_after<'a>(
         &mut self,
-        kw: &Spanned<String>,
+        kw: &Spanned<&str>,
         items: &'a [Item],
         i: &mut usize,
     ) -> Option<&'a Block> {
@@ -366,7 +368,7 @@ impl<'p> Builder<'p> {
         }
     }
 
-    fn once(&mut self, kw: &Spanned<String>, which: &'static str) -> bool {
+    fn once(&mut self, kw: &Spanned<&str>, which: &'static str) -> bool {
         if let Some(first) = self.singletons.get(which) {
             let first = *first;
             self.err(
@@ -422,6 +424,16 @@ impl<'p> Builder<'p> {
     }
 
     fn vec3(&mut self, item: &Item) -> Option<(DVec3, Span)> {
+        // A 3-vector the evaluator worked out (a loop's `centre <…>`) is
+        // read where it lies rather than copied out by `value`.
+        if let Item::Value(crate::lang::ast::Expr {
+            kind: crate::lang::ast::ExprKind::Value(Value::Vector(v)),
+            span,
+        }) = item
+            && let [x, y, z] = v[..]
+        {
+            return Some((DVec3::new(x, y, z), *span));
+        }
         match self.value(item, "a 3-vector `<x, y, z>`")? {
             (Value::Vector(v), s) if v.len() == 3 => Some((DVec3::new(v[0], v[1], v[2]), s)),
             (other, s) => {
@@ -481,7 +493,7 @@ impl<'p> Builder<'p> {
 
     /// Reads a block against a schema, reporting unknown, duplicate and
     /// incomplete parameters.
-    fn params(&mut self, owner: &str, block: &Block, schema: &Schema) -> Params {
+    fn params<'b>(&mut self, owner: &str, block: &'b Block, schema: &Schema) -> Params<'b> {
         params::read(owner, block, schema, &self.env, &mut self.errors)
     }
 

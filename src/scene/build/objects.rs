@@ -174,13 +174,13 @@ impl Builder<'_> {
     /// and `mesh`) and block follow.
     pub(super) fn object_statement(
         &mut self,
-        kw: &Spanned<String>,
+        kw: &Spanned<&str>,
         items: &[Item],
         i: &mut usize,
         ctx: Ctx,
     ) -> Vec<Box<dyn Shape>> {
         let mut string = None;
-        if takes_string(&kw.node) {
+        if takes_string(kw.node) {
             match items.get(*i) {
                 Some(s @ Item::Str { .. }) => {
                     *i += 1;
@@ -208,12 +208,12 @@ impl Builder<'_> {
 
     pub(super) fn object(
         &mut self,
-        kw: &Spanned<String>,
+        kw: &Spanned<&str>,
         string: Option<&Item>,
         block: &Block,
         ctx: Ctx,
     ) -> Vec<Box<dyn Shape>> {
-        let kind = kw.node.as_str();
+        let kind = kw.node;
         let schema = schema(kind);
         let mut p = self.params(kind, block, &schema);
         let mat = match p.take("material") {
@@ -332,7 +332,6 @@ impl Builder<'_> {
                 let Some(kw) = value.items.first().and_then(Item::as_name) else {
                     return Vec::new();
                 };
-                let kw = Spanned::new(kw.node.to_string(), kw.span);
                 let mut i = 1;
                 let built: Vec<Arc<dyn Shape>> = self
                     .object_statement(&kw, &value.items, &mut i, inner)
@@ -359,8 +358,13 @@ impl Builder<'_> {
         let mut out = Vec::new();
         for c in children {
             let shapes = self.traced(c.trace.as_ref(), |b| match &c.instance {
-                Some(f) => b.instance(&c.kw, f, &c.block, ctx),
-                None => b.object(&c.kw, c.string.as_ref(), &c.block, ctx),
+                Some(f) => b.instance(&c.kw, f, c.block, ctx),
+                None => b.object(
+                    &Spanned::new(c.kw.node.as_str(), c.kw.span),
+                    c.string,
+                    c.block,
+                    ctx,
+                ),
             });
             if let Some(op) = ctx.csg {
                 for s in &shapes {
@@ -396,7 +400,7 @@ impl Builder<'_> {
         &mut self,
         p: &mut params::Params,
         name: &str,
-        kw: &Spanned<String>,
+        kw: &Spanned<&str>,
     ) -> Option<DVec3> {
         match p.take(name) {
             Some(q) => self.vec3(&q.values[0]).map(|v| v.0),
@@ -409,7 +413,7 @@ impl Builder<'_> {
         }
     }
 
-    fn missing(&mut self, kw: &Spanned<String>, name: &str, what: &str) {
+    fn missing(&mut self, kw: &Spanned<&str>, name: &str, what: &str) {
         self.err(
             Error::new(kw.span, format!("`{}` needs `{name}`", kw.node))
                 .label(format!("no `{name}` given"))
@@ -422,7 +426,7 @@ impl Builder<'_> {
         p: &mut params::Params,
         name: &str,
         default: Option<f64>,
-        kw: &Spanned<String>,
+        kw: &Spanned<&str>,
     ) -> Option<f64> {
         match p.take(name) {
             Some(q) => self.positive(&q.values[0]),
@@ -445,7 +449,7 @@ impl Builder<'_> {
     fn primitive(
         &mut self,
         kind: &str,
-        kw: &Spanned<String>,
+        kw: &Spanned<&str>,
         string: Option<&Item>,
         p: &mut params::Params,
         mat: MaterialId,
@@ -774,7 +778,7 @@ impl Builder<'_> {
 
     fn one_transform(&mut self, q: &Param) -> Option<Transform> {
         let v = &q.values;
-        match q.name.node.as_str() {
+        match q.name.node {
             "translate" => self.vec3(&v[0]).map(|(d, _)| Transform::translate(d)),
             "rotate" => {
                 // `x`, `y` and `z` are axes here even where a loop or a
@@ -856,7 +860,7 @@ impl Builder<'_> {
             }
             "mirror" => self.axis(&v[0]).map(Transform::mirror),
             "matrix" => {
-                let Item::List(list) = &v[0] else {
+                let Item::List(list) = &*v[0] else {
                     self.err(
                         Error::new(
                             v[0].span(),

@@ -260,19 +260,22 @@ pub const OCCLUSION: Schema = Schema {
     children: false,
 };
 
-/// A parameter as written: its (canonical) name and its values.
+/// A parameter as written: its (canonical) name and its values, borrowed
+/// from the block that was read (a value is owned only where reading made
+/// it: the `-2` of `offset -2`).
 #[derive(Clone, Debug)]
-pub struct Param {
-    pub name: Spanned<String>,
-    pub values: Vec<Item>,
+pub struct Param<'a> {
+    /// The schema's own name (static: no String per parameter read).
+    pub name: Spanned<&'static str>,
+    pub values: Vec<Cow<'a, Item>>,
 }
 
 /// An object inside a `group` or CSG block.
 #[derive(Clone, Debug)]
-pub struct Child {
+pub struct Child<'a> {
     pub kw: Spanned<String>,
-    pub string: Option<Item>,
-    pub block: Block,
+    pub string: Option<&'a Item>,
+    pub block: &'a Block,
     /// The loop iteration or call that made it.
     pub trace: Option<std::sync::Arc<crate::eval::Trace>>,
     /// A placement of an object value: `kw` is its name, `block` the
@@ -295,65 +298,97 @@ type Trace = Option<std::sync::Arc<crate::eval::Trace>>;
 
 /// A block's items with the evaluator's [`Item::Traced`] wrappers opened,
 /// each item with the trace of the wrapper it was in.
-fn flatten(items: &[Item], trace: &Trace, out: &mut Vec<(Item, Trace)>) {
+fn flatten<'a>(items: &'a [Item], trace: &Trace, out: &mut Vec<(&'a Item, Trace)>) {
     for it in items {
         match it {
             Item::Traced { trace, items } => flatten(items, &Some(trace.clone()), out),
-            other => out.push((other.clone(), trace.clone())),
+            other => out.push((other, trace.clone())),
+        }
+    }
+}
+
+/// A block's items as read: the block's own list, or (when the evaluator
+/// wrapped some) the opened one.
+enum Seq<'a> {
+    Plain(&'a [Item]),
+    Opened(Vec<(&'a Item, Trace)>),
+}
+
+impl<'a> Seq<'a> {
+    fn len(&self) -> usize {
+        match self {
+            Seq::Plain(s) => s.len(),
+            Seq::Opened(v) => v.len(),
+        }
+    }
+
+    fn get(&self, k: usize) -> Option<&'a Item> {
+        match self {
+            Seq::Plain(s) => s.get(k),
+            Seq::Opened(v) => v.get(k).map(|(i, _)| *i),
+        }
+    }
+
+    fn trace(&self, k: usize) -> Trace {
+        match self {
+            Seq::Plain(_) => None,
+            Seq::Opened(v) => v.get(k).and_then(|(_, t)| t.clone()),
         }
     }
 }
 
 /// The parameters of one block, in the order written.
 #[derive(Debug, Default)]
-pub struct Params {
-    list: Vec<Param>,
-    pub children: Vec<Child>,
+pub struct Params<'a> {
+    list: Vec<Param<'a>>,
+    pub children: Vec<Child<'a>>,
     /// Whether an unknown parameter was reported: then "needs `x`" errors
     /// are held back, as the unknown one is likely `x` misspelt.
     pub had_unknown: bool,
 }
 
-impl Params {
+impl<'a> Params<'a> {
     /// Takes the parameter (at most one remains of each non-repeating name).
-    pub fn take(&mut self, name: &str) -> Option<Param> {
+    pub fn take(&mut self, name: &str) -> Option<Param<'a>> {
         let k = self.list.iter().position(|p| p.name.node == name)?;
         Some(self.list.remove(k))
     }
 
     /// Takes every transform, in the order written.
-    pub fn take_transforms(&mut self) -> Vec<Param> {
+    pub fn take_transforms(&mut self) -> Vec<Param<'a>> {
+        // Most objects have none: then nothing is split into new lists.
+        if !self.list.iter().any(|p| is_transform(p.name.node)) {
+            return Vec::new();
+        }
         let (t, rest) = std::mem::take(&mut self.list)
             .into_iter()
-            .partition(|p| is_transform(&p.name.node));
+            .partition(|p| is_transform(p.name.node));
         self.list = rest;
         t
     }
 
     /// What no handler took.
-    pub fn rest(self) -> Vec<Param> {
+    pub fn rest(self) -> Vec<Param<'a>> {
         self.list
     }
 }
 
 /// Reads `block` for `owner` (the statement's name, for messages).
-pub fn read(
+pub fn read<'a>(
     owner: &str,
-    block: &Block,
+    block: &'a Block,
     schema: &Schema,
     env: &Env,
     errors: &mut Vec<Error>,
-) -> Params {
-    let mut flat = Vec::new();
-    let opened;
-    let items: &[Item] = if block.items.iter().any(|i| matches!(i, Item::Traced { .. })) {
+) -> Params<'a> {
+    let items = if block.items.iter().any(|i| matches!(i, Item::Traced { .. })) {
+        let mut flat = Vec::new();
         flatten(&block.items, &None, &mut flat);
-        opened = flat.iter().map(|(i, _)| i.clone()).collect::<Vec<_>>();
-        &opened
+        Seq::Opened(flat)
     } else {
-        &block.items
+        Seq::Plain(&block.items)
     };
-    let trace_at = |k: usize| flat.get(k).and_then(|(_, t)| t.clone());
+    let trace_at = |k: usize| items.trace(k);
     let end = Span::new(
         block.span.file,
         block.span.end.saturating_sub(1),
@@ -373,7 +408,7 @@ pub fn read(
     };
     let mut i = 0;
     while i < items.len() {
-        let item = &items[i];
+        let Some(item) = items.get(i) else { break };
         i += 1;
         if let Item::Let { span, .. } = item {
             errors.push(
@@ -411,7 +446,7 @@ pub fn read(
                         .last()
                         .is_some_and(|v| v.span().end <= item.span().start) =>
                 {
-                    let spec = schema.get(&prev.name.node);
+                    let spec = schema.get(prev.name.node);
                     e.help(format!(
                         "`{}` takes {}; this is one value too many",
                         prev.name.node,
@@ -431,19 +466,19 @@ pub fn read(
             out.children.push(Child {
                 kw: Spanned::new(name.node.to_string(), name.span),
                 string: None,
-                block: b.clone(),
+                block: b,
                 trace: trace_at(i - 2),
                 instance: Some(f.clone()),
             });
             continue;
         }
-        let canon = canonical(&name.node).to_string();
-        if schema.children && objects::is_object(&canon) {
-            let string = if objects::takes_string(&canon) {
+        let canon = canonical(&name.node);
+        if schema.children && objects::is_object(canon) {
+            let string = if objects::takes_string(canon) {
                 match items.get(i) {
                     Some(s @ Item::Str { .. }) => {
                         i += 1;
-                        Some(s.clone())
+                        Some(s)
                     }
                     _ => None,
                 }
@@ -454,9 +489,9 @@ pub fn read(
                 Some(Item::Block(b)) => {
                     i += 1;
                     out.children.push(Child {
-                        kw: Spanned::new(canon, name.span),
+                        kw: Spanned::new(canon.to_string(), name.span),
                         string,
-                        block: b.clone(),
+                        block: b,
                         trace: trace_at(i - 1),
                         instance: None,
                     });
@@ -468,7 +503,7 @@ pub fn read(
             }
             continue;
         }
-        let Some(spec) = schema.get(&canon) else {
+        let Some(spec) = schema.get(canon) else {
             let mut e = Error::new(
                 name.span,
                 format!("unknown parameter `{}` in `{owner}`", name.node),
@@ -476,24 +511,22 @@ pub fn read(
             .label("not a parameter here");
             e = match did_you_mean(&name.node, schema.names()) {
                 Some(h) => e.help(h),
-                None if schema.object && matches!(canon.as_str(), "colour" | "reflect") => {
-                    e.help(format!(
-                        "`{}` belongs in a material: `material {{ {} … }}`",
-                        name.node, name.node
-                    ))
-                }
+                None if schema.object && matches!(canon, "colour" | "reflect") => e.help(format!(
+                    "`{}` belongs in a material: `material {{ {} … }}`",
+                    name.node, name.node
+                )),
                 None => e.help(format!("`{owner}` takes: {}", schema.names().join(", "))),
             };
             errors.push(e);
             out.had_unknown = true;
             // Skip its values, up to the next known parameter.
-            while i < items.len() && !starts_param(&items[i]) {
+            while i < items.len() && !items.get(i).is_some_and(starts_param) {
                 i += 1;
             }
             continue;
         };
-        let mut values: Vec<Item> = Vec::with_capacity(spec.arity.max(1));
-        values.extend(pending);
+        let mut values: Vec<Cow<Item>> = Vec::with_capacity(spec.arity.max(1));
+        values.extend(pending.map(Cow::Owned));
         // A declared material's name is `material`'s value even when it
         // is also a keyword (`material mirror`).
         let material_name = |it: &Item| {
@@ -530,23 +563,24 @@ pub fn read(
                 )),
             );
             i += 1;
-            values.push(items[i].clone());
+            values.extend(items.get(i).map(Cow::Borrowed));
             i += 1;
         }
         while values.len() < spec.arity
             && i < items.len()
-            && (!starts_param(&items[i]) || (values.is_empty() && material_name(&items[i])))
+            && (!items.get(i).is_some_and(starts_param)
+                || (values.is_empty() && items.get(i).is_some_and(material_name)))
         {
-            values.push(items[i].clone());
+            values.extend(items.get(i).map(Cow::Borrowed));
             i += 1;
         }
         if spec.pattern && values.len() == 1 && values[0].as_name().is_some() {
             if let Some(s @ Item::Str { .. }) = items.get(i) {
-                values.push(s.clone());
+                values.push(Cow::Borrowed(s));
                 i += 1;
             }
             if let Some(b @ Item::Block(_)) = items.get(i) {
-                values.push(b.clone());
+                values.push(Cow::Borrowed(b));
                 i += 1;
             }
         }
@@ -582,7 +616,7 @@ pub fn read(
             );
             continue;
         }
-        if !is_transform(&canon)
+        if !is_transform(canon)
             && let Some(first) = out.list.iter().find(|p| p.name.node == canon)
         {
             errors.push(
@@ -597,7 +631,7 @@ pub fn read(
             continue;
         }
         out.list.push(Param {
-            name: Spanned::new(canon, name.span),
+            name: Spanned::new(spec.name, name.span),
             values,
         });
     }
@@ -611,10 +645,17 @@ mod tests {
     use crate::lang::parser::parse;
     use crate::scene::Transfer;
 
-    /// Reads the block of `sphere { … }` with the sphere's schema.
-    fn read_sphere(body: &str) -> (Params, Vec<Error>) {
-        let items = parse(&format!("sphere {{ {body} }}"), FileId(0)).unwrap();
-        let Item::Block(b) = &items[1] else { panic!() };
+    /// The block of `sphere { body }`.
+    fn sphere_block(body: &str) -> Block {
+        let mut items = parse(&format!("sphere {{ {body} }}"), FileId(0)).unwrap();
+        let Item::Block(b) = items.remove(1) else {
+            panic!()
+        };
+        b
+    }
+
+    /// Reads a sphere's block with the sphere's schema.
+    fn read_sphere(b: &Block) -> (Params<'_>, Vec<Error>) {
         let schema = Schema {
             own: const {
                 &[
@@ -632,11 +673,12 @@ mod tests {
 
     #[test]
     fn parameters_in_any_order_and_transforms_in_order() {
-        let (mut p, e) = read_sphere("translate <1,0,0> radius 2 rotate x 90 center <0,1,0>");
+        let b = sphere_block("translate <1,0,0> radius 2 rotate x 90 center <0,1,0>");
+        let (mut p, e) = read_sphere(&b);
         assert!(e.is_empty(), "{e:?}");
         assert!(p.take("centre").is_some(), "`center` is read as `centre`");
         assert_eq!(p.take("radius").unwrap().values.len(), 1);
-        let t: Vec<String> = p
+        let t: Vec<&str> = p
             .take_transforms()
             .into_iter()
             .map(|q| q.name.node)
@@ -647,17 +689,19 @@ mod tests {
 
     #[test]
     fn a_minus_after_a_name_is_its_value() {
-        let (mut p, e) = read_sphere("radius -2");
+        let b = sphere_block("radius -2");
+        let (mut p, e) = read_sphere(&b);
         assert!(e.is_empty(), "{e:?}");
         let v = p.take("radius").unwrap();
         assert!(
-            matches!(&v.values[0], Item::Value(x) if matches!(x.kind, crate::lang::ast::ExprKind::Neg(_)))
+            matches!(&*v.values[0], Item::Value(x) if matches!(x.kind, crate::lang::ast::ExprKind::Neg(_)))
         );
     }
 
     #[test]
     fn mistakes_are_reported_and_reading_goes_on() {
-        let (mut p, e) = read_sphere("radius centre <0,0,0> raduis 1 radius 2 radius 3");
+        let b = sphere_block("radius centre <0,0,0> raduis 1 radius 2 radius 3");
+        let (mut p, e) = read_sphere(&b);
         let msgs: Vec<&str> = e.iter().map(|e| e.message.as_str()).collect();
         assert_eq!(
             msgs,

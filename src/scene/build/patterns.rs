@@ -22,6 +22,7 @@ use crate::scene::pattern::{
     self, Checker, Checker3d, ColourMap, ColourPattern, Gradient, Granite, ImagePattern, Kind,
     MapError, Marble, MaterialPick, Noise, NormalKind, NormalPattern, Pattern, Sectors, Wood,
 };
+use std::borrow::Cow;
 use std::sync::Arc;
 
 /// What a pattern's values are: colours (`colour …`) or materials.
@@ -300,7 +301,7 @@ impl Builder<'_> {
     }
 
     /// The pattern itself and the parameters it leaves (its map).
-    fn pattern(&mut self, w: &Written, target: Target) -> Option<(Pattern, Params)> {
+    fn pattern<'w>(&mut self, w: &Written<'w>, target: Target) -> Option<(Pattern, Params<'w>)> {
         let kind = w.name.node;
         if let (Some((_, s)), true) = (w.string, kind != "image") {
             self.err(
@@ -308,11 +309,11 @@ impl Builder<'_> {
             );
             return None;
         }
-        let empty = Block {
-            items: Vec::new(),
-            span: w.name.span,
+        // No block reads as an empty one: no parameters and nothing to report.
+        let mut p = match w.block {
+            Some(b) => self.params(kind, b, schema_of(kind)),
+            None => Params::default(),
         };
-        let mut p = self.params(kind, w.block.unwrap_or(&empty), schema_of(kind));
         let map_name = match target {
             Target::Colour => "material_map",
             Target::Material => "colour_map",
@@ -552,7 +553,7 @@ impl Builder<'_> {
 
     /// Pairs of a key and a value, checked to be sorted within [0, 1].
     fn map_entries<'i>(&mut self, q: &'i Param) -> Option<Vec<(f64, Span, &'i Item)>> {
-        let Item::Block(block) = &q.values[0] else {
+        let Item::Block(block) = &*q.values[0] else {
             self.err(
                 Error::new(
                     q.values[0].span(),
@@ -636,8 +637,8 @@ impl Builder<'_> {
     }
 
     /// `normal bumps { … }` (the values the params reader collected).
-    pub(super) fn normal_pattern(&mut self, values: &[Item]) -> Option<NormalPattern> {
-        let Some(name) = values.first().and_then(Item::as_name) else {
+    pub(super) fn normal_pattern(&mut self, values: &[Cow<Item>]) -> Option<NormalPattern> {
+        let Some(name) = values.first().and_then(|v| v.as_name()) else {
             let first = &values[0];
             self.err(
                 Error::new(
@@ -661,7 +662,7 @@ impl Builder<'_> {
             );
             return None;
         }
-        if let Some(s @ Item::Str { .. }) = values.get(1) {
+        if let Some(s @ Item::Str { .. }) = values.get(1).map(|v| &**v) {
             self.err(
                 Error::new(s.span(), format!("`{}` takes no file name", name.node))
                     .label("unexpected string"),
@@ -672,7 +673,7 @@ impl Builder<'_> {
             items: Vec::new(),
             span: name.span,
         };
-        let block = values.iter().find_map(|v| match v {
+        let block = values.iter().find_map(|v| match &**v {
             Item::Block(b) => Some(b),
             _ => None,
         });

@@ -4,7 +4,7 @@
 use super::*;
 
 impl Builder<'_> {
-    pub(super) fn camera(&mut self, kw: &Spanned<String>, block: &Block) {
+    pub(super) fn camera(&mut self, kw: &Spanned<&str>, block: &Block) {
         if !self.once(kw, "camera") {
             return;
         }
@@ -47,7 +47,7 @@ impl Builder<'_> {
             }
         } else if !plane.is_empty() {
             if plane.len() < 3 {
-                let given: Vec<&str> = plane.iter().map(|q| q.name.node.as_str()).collect();
+                let given: Vec<&str> = plane.iter().map(|q| q.name.node).collect();
                 let missing: Vec<&str> = ["distance", "width", "height"]
                     .into_iter()
                     .filter(|n| !given.contains(n))
@@ -115,7 +115,7 @@ impl Builder<'_> {
     pub(super) fn lens(
         &mut self,
         p: &mut Params,
-        kw: &Spanned<String>,
+        kw: &Spanned<&str>,
     ) -> Option<crate::scene::ThinLens> {
         let aperture = p.take("aperture");
         let focus = p.take("focus");
@@ -142,7 +142,7 @@ impl Builder<'_> {
         }
     }
 
-    pub(super) fn render(&mut self, kw: &Spanned<String>, block: &Block) {
+    pub(super) fn render(&mut self, kw: &Spanned<&str>, block: &Block) {
         if !self.once(kw, "render") {
             return;
         }

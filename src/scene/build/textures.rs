@@ -18,6 +18,7 @@ use crate::lang::ast::{Block, Item, Span};
 use crate::lang::diagnostics::{Error, did_you_mean};
 use crate::scene::pattern;
 use crate::scene::texture::{ImageTexture, UvMapping};
+use std::borrow::Cow;
 use std::sync::Arc;
 
 const IMAGE: Schema = Schema {
@@ -35,7 +36,7 @@ const IMAGE: Schema = Schema {
 impl Builder<'_> {
     /// `values` as the params reader collected them: one value, or a pattern
     /// name with an optional string and block.
-    pub(super) fn texture(&mut self, values: &[Item]) -> Option<Texture> {
+    pub(super) fn texture(&mut self, values: &[Cow<Item>]) -> Option<Texture> {
         let name = match values {
             [single] => match single.as_name() {
                 Some(n) if pattern::NAMES.contains(&n.node) && !single.is_bound_name() => n,
@@ -54,11 +55,11 @@ impl Builder<'_> {
             },
             [] => return None,
         };
-        let string = values.iter().find_map(|v| match v {
+        let string = values.iter().find_map(|v| match &**v {
             Item::Str { text, content, .. } => Some((text.as_str(), *content)),
             _ => None,
         });
-        let block = values.iter().find_map(|v| match v {
+        let block = values.iter().find_map(|v| match &**v {
             Item::Block(b) => Some(b),
             _ => None,
         });
