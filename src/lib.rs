@@ -160,8 +160,7 @@ pub fn render_to(
     })?;
     // A region's image records where it lies; a whole picture stays plain.
     let stamp = farm::stamp::Stamp::of(args, program, &scene.settings, region);
-    target
-        .write_stamped(&film, transfer, args.region.is_some().then_some(&stamp))
+    pool.install(|| target.write_stamped(&film, transfer, args.region.is_some().then_some(&stamp)))
         .map_err(Failure::output)?;
     let picture = (scene.settings.width, scene.settings.height);
     let seconds = timings.start.elapsed().as_secs_f64();
