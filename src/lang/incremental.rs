@@ -103,6 +103,14 @@ impl ParseCache {
                     Step::End => break starts.len(),
                     Step::Syntax(e) => {
                         errors.push(e);
+                        // The parse stops here, but the chunks after the
+                        // mistake are kept for when it is fixed.
+                        for (j, &s) in starts.iter().enumerate().skip(k + 1) {
+                            let e = starts.get(j + 1).copied().unwrap_or(text.len());
+                            if let Some((key, c)) = self.chunks.remove_entry(&text[s..e]) {
+                                kept.insert(key, c);
+                            }
+                        }
                         self.chunks = kept;
                         return Err(errors);
                     }

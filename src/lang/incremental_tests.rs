@@ -300,6 +300,15 @@ fn a_one_line_edit_parses_one_chunk_again() {
         "{} chunks parsed",
         cache.last_parsed
     );
+    // One in the middle: the chunks after it are kept for the fix.
+    let broken = format!("{}let = 1\n{}", &text[..line], &text[line..]);
+    same(&mut cache, &broken);
+    same(&mut cache, &text);
+    assert!(
+        cache.last_parsed <= 2,
+        "{} chunks parsed",
+        cache.last_parsed
+    );
 }
 
 #[test]

@@ -9,6 +9,7 @@ use super::uri;
 use crate::eval::{Limits, Options};
 use crate::lang::ast::{FileId, Span};
 use crate::lang::diagnostics::Error;
+use crate::lang::incremental::ParseCache;
 use lsp_types::{Diagnostic, DiagnosticRelatedInformation, DiagnosticSeverity, Location};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -40,9 +41,21 @@ pub struct Report {
 /// Checks `text` as the scene file at `path` (includes are read from disk,
 /// relative to it). `cancel` stops the evaluation early: a newer version of
 /// the document has arrived and this report will not be used.
+#[cfg(test)]
 pub fn check(path: &Path, text: &str, cancel: Option<Arc<AtomicBool>>) -> Report {
+    check_with(path, text, cancel, None)
+}
+
+/// As [`check`], the document parsed through `cache` (the parses of its
+/// last text), so that a keystroke re-parses only what it changed.
+pub fn check_with(
+    path: &Path,
+    text: &str,
+    cancel: Option<Arc<AtomicBool>>,
+    cache: Option<&mut ParseCache>,
+) -> Report {
     let clock = std::time::Instant::now();
-    let (program, load_errors) = crate::lang::load_text_all(path, text.to_string());
+    let (program, load_errors) = crate::lang::load_text_cached(path, text.to_string(), cache);
     let parsed = clock.elapsed().as_secs_f64();
     // A newer text may have come while this one was parsed.
     let cancelled = cancel.as_ref().is_some_and(|c| c.load(Ordering::Relaxed));
