@@ -5,8 +5,9 @@
 //! The text is cut into *chunks* at lines that surely start a new
 //! top-level item; each chunk is parsed on its own, as if it were the
 //! whole file, and kept by its text. On the next parse only the chunks
-//! whose text is new are parsed; the others' items are copied with their
-//! spans moved to where the chunk now starts. The result is exactly
+//! whose text is new are parsed; the others' items are reused, their
+//! spans moved to where the chunk now starts (lent to the result and
+//! given back, see [`ParseCache`]). The result is exactly
 //! [`parser::parse`]'s, errors included:
 //!
 //! - A cut is made only before a line whose first word is a name or a
@@ -30,15 +31,49 @@ use super::parser::{self, Step};
 use std::collections::HashMap;
 use std::sync::Arc;
 
-/// A chunk's items, parsed on their own (spans from the chunk's start),
-/// with where the last ends; `None` when it did not parse on its own.
-type Chunk = Option<(Vec<Result<Item, Error>>, usize)>;
+/// A chunk's items, parsed on their own, with where the last ends (from
+/// the chunk's start).
+struct Parsed {
+    results: Vec<Result<Item, Error>>,
+    last_end: usize,
+    /// Whether its items may be lent to a parse's result rather than
+    /// copied: all parsed, and no `include` (the loader replaces those by
+    /// the included items, which [`ParseCache::reclaim`] could not tell
+    /// apart).
+    lendable: bool,
+    /// While lent: how many items, where the first went in the parse's
+    /// result, and the chunk's start then.
+    lent: Option<(usize, usize, usize)>,
+}
+
+struct Entry {
+    /// Where the chunk started when its spans were made.
+    at: usize,
+    /// `None` when the chunk did not parse on its own.
+    parse: Option<Parsed>,
+}
+
+/// Where each item of the last parse's result came from, in order.
+enum Slot {
+    /// Items lent by an entry: (the entry, how many, the chunk's start, the
+    /// first item's start).
+    Lent(usize, usize, usize, usize),
+    /// One item made or copied for the result; whether it is an `include`.
+    Own(bool),
+}
 
 /// The parses of the chunks of one file's last text, kept between parses
 /// of that file.
+///
+/// Copying 100,000 items costs as much as an evaluation, so a chunk's
+/// items are moved into the result and, once the caller is done with the
+/// program, moved back by [`ParseCache::reclaim`]. A chunk whose items
+/// were not given back is parsed again.
 #[derive(Default)]
 pub struct ParseCache {
-    chunks: HashMap<Box<str>, Arc<Chunk>>,
+    index: HashMap<Box<str>, usize>,
+    entries: Vec<Entry>,
+    layout: Vec<Slot>,
     /// How many chunks the last parse had, and how many of them it parsed.
     pub last_chunks: usize,
     pub last_parsed: usize,
@@ -52,12 +87,19 @@ impl ParseCache {
     /// [`parser::parse`]'s result for `text`, re-parsing only what changed
     /// since the last call.
     pub fn parse(&mut self, text: &str, file: FileId) -> Result<Vec<Item>, Vec<Error>> {
+        self.layout.clear();
         let errors = parser::check_brackets(text, file);
         if !errors.is_empty() {
             return Err(errors);
         }
         let starts = chunk_starts(text);
-        let mut kept: HashMap<Box<str>, Arc<Chunk>> = HashMap::with_capacity(starts.len());
+        let mut old_index = std::mem::take(&mut self.index);
+        let mut old_entries: Vec<Option<Entry>> = std::mem::take(&mut self.entries)
+            .into_iter()
+            .map(Some)
+            .collect();
+        let mut index: HashMap<Box<str>, usize> = HashMap::with_capacity(starts.len());
+        let mut entries: Vec<Entry> = Vec::with_capacity(starts.len());
         let mut items = Vec::new();
         let mut errors = Vec::new();
         self.last_chunks = starts.len();
@@ -69,29 +111,66 @@ impl ParseCache {
             let start = starts[k];
             let end = starts.get(k + 1).copied().unwrap_or(text.len());
             let piece = &text[start..end];
-            let chunk = match kept.get(piece) {
-                Some(c) => c.clone(),
+            let e = match index.get(piece) {
+                Some(&e) => e,
                 None => {
-                    let (key, c) = match self.chunks.remove_entry(piece) {
-                        Some(kc) => kc,
+                    let old = old_index
+                        .remove_entry(piece)
+                        .and_then(|(key, i)| Some((key, old_entries.get_mut(i)?.take()?)))
+                        // Items never given back are gone.
+                        .filter(|(_, e)| e.parse.as_ref().is_none_or(|p| p.lent.is_none()));
+                    let (key, entry) = match old {
+                        Some(ke) => ke,
                         None => {
                             self.last_parsed += 1;
-                            (Box::from(piece), Arc::new(parse_alone(piece, file)))
+                            (Box::from(piece), parse_alone(piece, file))
                         }
                     };
-                    kept.insert(key, c.clone());
-                    c
+                    entries.push(entry);
+                    index.insert(key, entries.len() - 1);
+                    entries.len() - 1
                 }
             };
-            if let Some((parsed, last_end)) = chunk.as_ref() {
-                for r in parsed {
-                    match r {
-                        Ok(i) => items.push(moved_item(i, start, file)),
-                        Err(e) => errors.push(moved_error(e, start, file)),
+            let entry = &mut entries[e];
+            let by = start.wrapping_sub(entry.at) as isize;
+            if let Some(p) = entry.parse.as_mut() {
+                if let Some((n, first, was)) = p.lent {
+                    // The same text twice: a copy of the first's items.
+                    let by = start.wrapping_sub(was) as isize;
+                    let copies: Vec<Item> = items[first..first + n]
+                        .iter()
+                        .map(|i| moved_item(i, by, file))
+                        .collect();
+                    self.layout
+                        .extend(copies.iter().map(|i| Slot::Own(is_include(i))));
+                    items.extend(copies);
+                } else if p.lendable && !p.results.is_empty() {
+                    let n = p.results.len();
+                    let first = items.len();
+                    // Lendable: every result is an item.
+                    for mut i in p.results.drain(..).flatten() {
+                        if by != 0 || i.span().file != file {
+                            shift_item(&mut i, by, file);
+                        }
+                        items.push(i);
+                    }
+                    p.lent = Some((n, first, start));
+                    if let Some(i) = items.get(first) {
+                        self.layout.push(Slot::Lent(e, n, start, i.span().start));
+                    }
+                } else {
+                    for r in &p.results {
+                        match r {
+                            Ok(i) => {
+                                self.layout.push(Slot::Own(is_include(i)));
+                                items.push(moved_item(i, by, file));
+                            }
+                            Err(x) => errors.push(moved_error(x, by, file)),
+                        }
                     }
                 }
-                if !parsed.is_empty() {
-                    pos = start + last_end;
+                if p.lent.is_some() || !p.results.is_empty() {
+                    pos = start + p.last_end;
                 }
                 k += 1;
                 continue;
@@ -101,23 +180,31 @@ impl ParseCache {
             k = loop {
                 match parser::step(text, pos, file) {
                     Step::End => break starts.len(),
-                    Step::Syntax(e) => {
-                        errors.push(e);
+                    Step::Syntax(x) => {
+                        errors.push(x);
                         // The parse stops here, but the chunks after the
                         // mistake are kept for when it is fixed.
                         for (j, &s) in starts.iter().enumerate().skip(k + 1) {
                             let e = starts.get(j + 1).copied().unwrap_or(text.len());
-                            if let Some((key, c)) = self.chunks.remove_entry(&text[s..e]) {
-                                kept.insert(key, c);
+                            let old = old_index
+                                .remove_entry(&text[s..e])
+                                .and_then(|(key, i)| Some((key, old_entries.get_mut(i)?.take()?)));
+                            if let Some((key, entry)) = old
+                                && !index.contains_key(&key)
+                            {
+                                entries.push(entry);
+                                index.insert(key, entries.len() - 1);
                             }
                         }
-                        self.chunks = kept;
-                        return Err(errors);
+                        break starts.len();
                     }
                     Step::Item(r, next) => {
                         match r {
-                            Ok(i) => items.push(i),
-                            Err(e) => errors.push(e),
+                            Ok(i) => {
+                                self.layout.push(Slot::Own(is_include(&i)));
+                                items.push(i);
+                            }
+                            Err(x) => errors.push(x),
                         }
                         pos = next;
                         // Back on a cut: the chunks from there parse as
@@ -129,29 +216,119 @@ impl ParseCache {
                 }
             };
         }
-        self.chunks = kept;
+        self.index = index;
+        self.entries = entries;
         if errors.is_empty() {
             Ok(items)
         } else {
+            // The loader drops a file's items when it has errors: its
+            // chunks' items come back now.
+            self.give_back(items, None);
             Err(errors)
+        }
+    }
+
+    /// Takes back the items the last [`parse`](Self::parse) lent, from the
+    /// program built of them (`items`: its root file's items with every
+    /// `include` spliced in, `root` that file). Only the lent items are
+    /// kept; the rest are dropped.
+    pub fn reclaim(&mut self, items: Vec<Item>, root: FileId) {
+        self.give_back(items, Some(root));
+    }
+
+    /// `spliced`: the root file's id when the includes have been replaced
+    /// by the included files' items (whose spans are in other files).
+    fn give_back(&mut self, items: Vec<Item>, spliced: Option<FileId>) {
+        let mut it = items.into_iter().peekable();
+        for slot in std::mem::take(&mut self.layout) {
+            match slot {
+                Slot::Lent(e, n, at, first) => {
+                    // Not where it was lent: something else changed the
+                    // program, and what is left stays unclaimed.
+                    if it.peek().is_none_or(|i| i.span().start != first) {
+                        return;
+                    }
+                    let back: Vec<Result<Item, Error>> = it.by_ref().take(n).map(Ok).collect();
+                    if back.len() != n {
+                        return;
+                    }
+                    let Some(entry) = self.entries.get_mut(e) else {
+                        return;
+                    };
+                    if let Some(p) = entry.parse.as_mut() {
+                        p.results = back;
+                        p.lent = None;
+                        entry.at = at;
+                    }
+                }
+                Slot::Own(true) if spliced.is_some() => {
+                    while it.peek().is_some_and(|i| Some(i.span().file) != spliced) {
+                        it.next();
+                    }
+                }
+                Slot::Own(_) => {
+                    it.next();
+                }
+            }
         }
     }
 }
 
-/// A chunk parsed as a file of its own: its items, or `None` at the first
-/// syntax error.
-fn parse_alone(text: &str, file: FileId) -> Chunk {
-    let mut out = Vec::new();
+fn is_include(i: &Item) -> bool {
+    matches!(i, Item::Include { .. })
+}
+
+/// Whether an `include` is among the items, at any depth.
+fn holds_include(items: &[Item]) -> bool {
+    items.iter().any(|i| match i {
+        Item::Include { .. } => true,
+        Item::Block(b) => holds_include(&b.items),
+        Item::LetItems { items, .. } | Item::Traced { items, .. } => holds_include(items),
+        Item::For { body, .. } => holds_include(&body.items),
+        Item::If {
+            then, otherwise, ..
+        } => {
+            holds_include(&then.items)
+                || otherwise
+                    .as_deref()
+                    .is_some_and(|o| holds_include(std::slice::from_ref(o)))
+        }
+        Item::Fn(f) => match &f.body {
+            FnBody::Items(b) => holds_include(&b.items),
+            FnBody::Expr(_) => false,
+        },
+        Item::Let { .. } | Item::Value(_) | Item::Str { .. } | Item::List(_) => false,
+    })
+}
+
+/// A chunk parsed as a file of its own: its items, or no parse at the
+/// first syntax error.
+fn parse_alone(text: &str, file: FileId) -> Entry {
+    let mut results = Vec::new();
     let mut pos = 0;
     loop {
         match parser::step(text, pos, file) {
-            Step::End => return Some((out, pos)),
-            Step::Syntax(_) => return None,
+            Step::End => break,
+            Step::Syntax(_) => return Entry { at: 0, parse: None },
             Step::Item(r, next) => {
-                out.push(r);
+                results.push(r);
                 pos = next;
             }
         }
+    }
+    let lendable = results.iter().all(|r| r.is_ok())
+        && !results.iter().any(|r| {
+            r.as_ref()
+                .is_ok_and(|i| holds_include(std::slice::from_ref(i)))
+        });
+    Entry {
+        at: 0,
+        parse: Some(Parsed {
+            results,
+            last_end: pos,
+            lendable,
+            lent: None,
+        }),
     }
 }
 
@@ -245,11 +422,15 @@ fn skip_blank(text: &str, mut pos: usize) -> usize {
     }
 }
 
-fn moved(s: Span, by: usize, file: FileId) -> Span {
-    Span::new(file, s.start + by, s.end + by)
+fn moved(s: Span, by: isize, file: FileId) -> Span {
+    Span::new(
+        file,
+        s.start.wrapping_add_signed(by),
+        s.end.wrapping_add_signed(by),
+    )
 }
 
-fn moved_error(e: &Error, by: usize, file: FileId) -> Error {
+fn moved_error(e: &Error, by: isize, file: FileId) -> Error {
     let mut e = e.clone();
     e.span = moved(e.span, by, file);
     for (s, _) in &mut e.notes {
@@ -259,7 +440,7 @@ fn moved_error(e: &Error, by: usize, file: FileId) -> Error {
 }
 
 /// A copy of a chunk's item with every span `by` bytes later.
-fn moved_item(i: &Item, by: usize, file: FileId) -> Item {
+fn moved_item(i: &Item, by: isize, file: FileId) -> Item {
     if by == 0 && i.span().file == file {
         return i.clone();
     }
@@ -268,7 +449,7 @@ fn moved_item(i: &Item, by: usize, file: FileId) -> Item {
     i
 }
 
-fn shift_item(i: &mut Item, by: usize, file: FileId) {
+fn shift_item(i: &mut Item, by: isize, file: FileId) {
     let m = |s: &mut Span| *s = moved(*s, by, file);
     match i {
         Item::Let { name, value, span } => {
@@ -349,7 +530,7 @@ fn shift_item(i: &mut Item, by: usize, file: FileId) {
     }
 }
 
-fn moved_fn(def: &FnDef, by: usize, file: FileId) -> FnDef {
+fn moved_fn(def: &FnDef, by: isize, file: FileId) -> FnDef {
     let expr = |e: &Expr| {
         let mut e = e.clone();
         shift_expr(&mut e, by, file);
@@ -383,14 +564,14 @@ fn moved_fn(def: &FnDef, by: usize, file: FileId) -> FnDef {
     }
 }
 
-fn shift_block(b: &mut Block, by: usize, file: FileId) {
+fn shift_block(b: &mut Block, by: isize, file: FileId) {
     b.span = moved(b.span, by, file);
     for i in &mut b.items {
         shift_item(i, by, file);
     }
 }
 
-fn shift_expr(e: &mut Expr, by: usize, file: FileId) {
+fn shift_expr(e: &mut Expr, by: isize, file: FileId) {
     e.span = moved(e.span, by, file);
     match &mut e.kind {
         ExprKind::Number(_)
