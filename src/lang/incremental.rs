@@ -279,7 +279,7 @@ fn is_include(i: &Item) -> bool {
 }
 
 /// Whether an `include` is among the items, at any depth.
-fn holds_include(items: &[Item]) -> bool {
+pub(super) fn holds_include(items: &[Item]) -> bool {
     items.iter().any(|i| match i {
         Item::Include { .. } => true,
         Item::Block(b) => holds_include(&b.items),

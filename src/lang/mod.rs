@@ -190,6 +190,14 @@ impl Loader<'_> {
                     content,
                     ..
                 } => out.extend(self.include(&text, string, content, id, chain, depth)),
+                // A file's own blocks nest at most MAX_BLOCK_DEPTH deep
+                // (the bracket pass sees to it): a block at the top of a
+                // file at the top of the scene, with no include inside, is
+                // kept as it is rather than rebuilt (100,000 of them in a
+                // large scene).
+                Item::Block(b) if depth == 0 && !incremental::holds_include(&b.items) => {
+                    out.push(Item::Block(b));
+                }
                 Item::Block(mut b) => {
                     if depth + 1 > MAX_BLOCK_DEPTH {
                         self.errors.push(
