@@ -307,6 +307,78 @@ mod tests {
         }
     }
 
+    /// As above, for pseudo-random edits (inserted and deleted text,
+    /// includes among it) of a scene with includes.
+    #[test]
+    fn a_cached_check_reports_what_a_fresh_one_does_after_random_edits() {
+        const SNIPPETS: &[&str] = &[
+            "{",
+            "}",
+            "\"",
+            "/*",
+            "*/",
+            "\n",
+            "include \"std/metals.rt\"\n",
+            "union { include \"std/metals.rt\" }\n",
+            "sphere { radus 1 }\n",
+            "let = 1\n",
+            "1.2.3 ",
+            "else ",
+            "\nor x",
+            "material gold",
+            "box {\n",
+        ];
+        let mut text = String::from("include \"std/metals.rt\"\n");
+        for k in 0..60 {
+            text.push_str(&format!(
+                "sphere {{ centre <{k}, 0, 0>  material gold }}\nlet r{k} = {k}\n"
+            ));
+        }
+        let path = Path::new("/nonexistent/random.rt");
+        let mut cache = ParseCache::new();
+        let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
+        let mut next = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed as usize
+        };
+        let mut parsed = 0;
+        // The last text whose brackets, strings and comments were closed.
+        let mut good = text.clone();
+        for _ in 0..300 {
+            let at = crate::lang::source::floor_char_boundary(&text, next() % (text.len() + 1));
+            let edited = match next() % 5 {
+                // Back to the last closed text: a break and its fix.
+                0 | 1 => good.clone(),
+                2 => {
+                    let end = (at + next() % 30).min(text.len());
+                    let end = crate::lang::source::floor_char_boundary(&text, end);
+                    format!("{}{}", &text[..at], &text[end..])
+                }
+                _ => format!(
+                    "{}{}{}",
+                    &text[..at],
+                    SNIPPETS[next() % SNIPPETS.len()],
+                    &text[at..]
+                ),
+            };
+            text = edited;
+            let cached = check_with(path, &text, None, Some(&mut cache));
+            assert_eq!(
+                cached.diagnostics,
+                check(path, &text, None).diagnostics,
+                "{text}"
+            );
+            if crate::lang::parser::check_brackets(&text, FileId(0)).is_empty() {
+                parsed += 1;
+                good = text.clone();
+            }
+        }
+        // Most edits are past the bracket pass, where the cache works.
+        assert!(parsed > 100, "{parsed} of 300");
+    }
+
     #[test]
     fn warnings_are_warnings() {
         // An unbounded implicit surface renders, with a warning.
