@@ -6,11 +6,13 @@
 pub mod ast;
 pub mod diagnostics;
 pub mod grammar;
+pub mod incremental;
 pub mod parser;
 pub mod source;
 
 use ast::{FileId, Item, Span};
 use diagnostics::{Error, Problems};
+use incremental::ParseCache;
 use source::{SourceFile, Sources};
 use std::path::{Component, Path, PathBuf};
 use std::sync::Arc;
@@ -76,12 +78,24 @@ pub fn load_text(path: &Path, text: String) -> Result<Program, Problems> {
 /// errors as they are, for a caller that shows them itself (the language
 /// server publishes each in its own file).
 pub fn load_text_all(path: &Path, text: String) -> (Program, Vec<Error>) {
+    load_text_cached(path, text, None)
+}
+
+/// As [`load_text_all`], the root file parsed through `cache`, which
+/// re-parses only what changed since its last text (an editor's
+/// keystroke); the result is the same as without it.
+pub fn load_text_cached(
+    path: &Path,
+    text: String,
+    cache: Option<&mut ParseCache>,
+) -> (Program, Vec<Error>) {
     let mut loader = Loader {
         sources: Sources::default(),
         errors: Vec::new(),
         bytes: text.len() as u64,
         includes: 0,
         over_budget: false,
+        cache,
     };
     let name = path.display().to_string();
     let canonical = path.canonicalize().unwrap_or_else(|_| path.to_path_buf());
@@ -94,7 +108,7 @@ pub fn load_text_all(path: &Path, text: String) -> (Program, Vec<Error>) {
     (program, loader.errors)
 }
 
-struct Loader {
+struct Loader<'c> {
     sources: Sources,
     errors: Vec<Error>,
     /// Scene bytes read so far, every copy of every include counted.
@@ -104,9 +118,11 @@ struct Loader {
     /// Set once a whole-scene budget is spent: one error says so, and no
     /// further file is read.
     over_budget: bool,
+    /// For the root file only: included files are read from disk afresh.
+    cache: Option<&'c mut ParseCache>,
 }
 
-impl Loader {
+impl Loader<'_> {
     fn file(
         &mut self,
         name: String,
@@ -132,7 +148,11 @@ impl Loader {
             self.errors.push(e);
             return (id, Vec::new());
         }
-        let items = match parser::parse(&text, id) {
+        let parsed = match (included_from, self.cache.as_deref_mut()) {
+            (None, Some(cache)) => cache.parse(&text, id),
+            _ => parser::parse(&text, id),
+        };
+        let items = match parsed {
             Ok(items) => items,
             Err(errs) => {
                 match included_from {
@@ -170,6 +190,14 @@ impl Loader {
                     content,
                     ..
                 } => out.extend(self.include(&text, string, content, id, chain, depth)),
+                // A file's own blocks nest at most MAX_BLOCK_DEPTH deep
+                // (the bracket pass sees to it): a block at the top of a
+                // file at the top of the scene, with no include inside, is
+                // kept as it is rather than rebuilt (100,000 of them in a
+                // large scene).
+                Item::Block(b) if depth == 0 && !incremental::holds_include(&b.items) => {
+                    out.push(Item::Block(b));
+                }
                 Item::Block(mut b) => {
                     if depth + 1 > MAX_BLOCK_DEPTH {
                         self.errors.push(

@@ -97,39 +97,67 @@ pub fn parse(text: &str, file: FileId) -> Result<Vec<Item>, Vec<Error>> {
     let mut items = Vec::new();
     let mut errors = Vec::new();
     let mut pos = 0;
-    while pos <= text.len() {
-        let rest = &text[pos..];
-        let at = Loc { file, offset: pos };
-        let mut pairs = match RtParser::parse(Rule::next_item, rest) {
-            Ok(p) => p,
-            Err(first) => {
-                // Tracking the tokens pest tried slows every parse; only a
-                // failed one needs them, for "expected `,` or `>`".
-                pest::set_error_detail(true);
-                let detailed = RtParser::parse(Rule::next_item, rest).err();
-                pest::set_error_detail(false);
-                errors.push(syntax_error(detailed.unwrap_or(first), rest, at));
+    loop {
+        match step(text, pos, file) {
+            Step::End => break,
+            Step::Syntax(e) => {
+                errors.push(e);
                 break;
             }
-        };
-        let Some(p) = pairs.next().and_then(|top| top.into_inner().next()) else {
-            break;
-        };
-        if p.as_rule() == Rule::EOI {
-            break;
+            Step::Item(i, end) => {
+                match i {
+                    Ok(i) => items.push(i),
+                    Err(e) => errors.push(e),
+                }
+                pos = end;
+            }
         }
-        let end = p.as_span().end();
-        match item(p, at) {
-            Ok(i) => items.push(i),
-            Err(e) => errors.push(e),
-        }
-        pos += end.max(1);
     }
     if errors.is_empty() {
         Ok(items)
     } else {
         Err(errors)
     }
+}
+
+/// What the parser finds at one place of a file's top level.
+pub(super) enum Step {
+    /// Only blank space and comments are left.
+    End,
+    /// A top-level item (or the mistake that turning it into an item
+    /// found), and the byte offset in the file where it ends.
+    Item(Result<Item, Error>, usize),
+    /// The text does not parse here; the file's parse stops.
+    Syntax(Error),
+}
+
+/// The top-level item of `text` that follows `pos` (after blank space and
+/// comments). A file's parse is these steps from 0, each from where the
+/// last ended, so a caller may run them from any item's start.
+pub(super) fn step(text: &str, pos: usize, file: FileId) -> Step {
+    let Some(rest) = text.get(pos..) else {
+        return Step::End;
+    };
+    let at = Loc { file, offset: pos };
+    let mut pairs = match RtParser::parse(Rule::next_item, rest) {
+        Ok(p) => p,
+        Err(first) => {
+            // Tracking the tokens pest tried slows every parse; only a
+            // failed one needs them, for "expected `,` or `>`".
+            pest::set_error_detail(true);
+            let detailed = RtParser::parse(Rule::next_item, rest).err();
+            pest::set_error_detail(false);
+            return Step::Syntax(syntax_error(detailed.unwrap_or(first), rest, at));
+        }
+    };
+    let Some(p) = pairs.next().and_then(|top| top.into_inner().next()) else {
+        return Step::End;
+    };
+    if p.as_rule() == Rule::EOI {
+        return Step::End;
+    }
+    let end = p.as_span().end();
+    Step::Item(item(p, at), pos + end.max(1))
 }
 
 /// Where a piece of text being parsed sits: its file, and the byte offset

@@ -9,6 +9,7 @@ use super::uri;
 use crate::eval::{Limits, Options};
 use crate::lang::ast::{FileId, Span};
 use crate::lang::diagnostics::Error;
+use crate::lang::incremental::ParseCache;
 use lsp_types::{Diagnostic, DiagnosticRelatedInformation, DiagnosticSeverity, Location};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -40,9 +41,22 @@ pub struct Report {
 /// Checks `text` as the scene file at `path` (includes are read from disk,
 /// relative to it). `cancel` stops the evaluation early: a newer version of
 /// the document has arrived and this report will not be used.
+#[cfg(test)]
 pub fn check(path: &Path, text: &str, cancel: Option<Arc<AtomicBool>>) -> Report {
+    check_with(path, text, cancel, None)
+}
+
+/// As [`check`], the document parsed through `cache` (the parses of its
+/// last text), so that a keystroke re-parses only what it changed.
+pub fn check_with(
+    path: &Path,
+    text: &str,
+    cancel: Option<Arc<AtomicBool>>,
+    mut cache: Option<&mut ParseCache>,
+) -> Report {
     let clock = std::time::Instant::now();
-    let (program, load_errors) = crate::lang::load_text_all(path, text.to_string());
+    let (mut program, load_errors) =
+        crate::lang::load_text_cached(path, text.to_string(), cache.as_deref_mut());
     let parsed = clock.elapsed().as_secs_f64();
     // A newer text may have come while this one was parsed.
     let cancelled = cancel.as_ref().is_some_and(|c| c.load(Ordering::Relaxed));
@@ -121,6 +135,10 @@ pub fn check(path: &Path, text: &str, cancel: Option<Arc<AtomicBool>>) -> Report
             .entry(analysis.file(span.file).path.clone())
             .or_default()
             .push(d);
+    }
+    // The items the cache lent go back to it, for the next keystroke.
+    if let Some(c) = cache {
+        c.reclaim(std::mem::take(&mut program.items), program.root);
     }
     let done = clock.elapsed().as_secs_f64();
     Report {
@@ -243,6 +261,122 @@ mod tests {
             "{}",
             d[0].message
         );
+    }
+
+    /// Checks through one cache, edit after edit, report what checks
+    /// without one do: the cache's items lent to each program come back
+    /// right, includes spliced in or not.
+    #[test]
+    fn a_cached_check_reports_what_a_fresh_one_does() {
+        let mut lines: Vec<String> = vec![
+            "include \"std/metals.rt\"".into(),
+            "union {\n  include \"std/metals.rt\"\n  sphere { material gold }\n}".into(),
+        ];
+        for k in 0..300 {
+            lines.push(match k % 3 {
+                0 => format!("sphere {{ centre <{k}, 0, 0>  radius 0.4  material gold }}"),
+                1 => format!("let r{k} = {k} * 0.01"),
+                _ => format!("box {{\n  min <{k}, 0, 0>\n  max <{k}.5, 1, 1>\n}}"),
+            });
+        }
+        let path = Path::new("/nonexistent/cached.rt");
+        let mut cache = ParseCache::new();
+        let mut texts = vec![lines.join("\n")];
+        let mut edit = |k: usize, line: &str| {
+            lines[k] = line.to_string();
+            texts.push(lines.join("\n"));
+        };
+        edit(150, "sphere { radus 1 }");
+        edit(10, "include \"std/metals.rt\" sphere { material silver }");
+        edit(200, "box { materail red }");
+        edit(250, "let = 1");
+        edit(250, "let x = 1.2.3");
+        edit(250, "let x = 1");
+        edit(0, "include \"missing.rt\"");
+        edit(150, "sphere { radius 1 }");
+        let first = texts[0].clone();
+        texts.push(first);
+        for (k, t) in texts.iter().enumerate() {
+            let cached = check_with(path, t, None, Some(&mut cache));
+            assert_eq!(cached.diagnostics, check(path, t, None).diagnostics, "{t}");
+            // Each edit but the last changed one line: its chunk is parsed
+            // again, and nothing lent was lost.
+            if k > 0 && k < texts.len() - 1 {
+                assert!(cache.last_parsed <= 1, "{k}: {} parsed", cache.last_parsed);
+            }
+        }
+    }
+
+    /// As above, for pseudo-random edits (inserted and deleted text,
+    /// includes among it) of a scene with includes.
+    #[test]
+    fn a_cached_check_reports_what_a_fresh_one_does_after_random_edits() {
+        const SNIPPETS: &[&str] = &[
+            "{",
+            "}",
+            "\"",
+            "/*",
+            "*/",
+            "\n",
+            "include \"std/metals.rt\"\n",
+            "union { include \"std/metals.rt\" }\n",
+            "sphere { radus 1 }\n",
+            "let = 1\n",
+            "1.2.3 ",
+            "else ",
+            "\nor x",
+            "material gold",
+            "box {\n",
+        ];
+        let mut text = String::from("include \"std/metals.rt\"\n");
+        for k in 0..60 {
+            text.push_str(&format!(
+                "sphere {{ centre <{k}, 0, 0>  material gold }}\nlet r{k} = {k}\n"
+            ));
+        }
+        let path = Path::new("/nonexistent/random.rt");
+        let mut cache = ParseCache::new();
+        let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
+        let mut next = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed as usize
+        };
+        let mut parsed = 0;
+        // The last text whose brackets, strings and comments were closed.
+        let mut good = text.clone();
+        for _ in 0..300 {
+            let at = crate::lang::source::floor_char_boundary(&text, next() % (text.len() + 1));
+            let edited = match next() % 5 {
+                // Back to the last closed text: a break and its fix.
+                0 | 1 => good.clone(),
+                2 => {
+                    let end = (at + next() % 30).min(text.len());
+                    let end = crate::lang::source::floor_char_boundary(&text, end);
+                    format!("{}{}", &text[..at], &text[end..])
+                }
+                _ => format!(
+                    "{}{}{}",
+                    &text[..at],
+                    SNIPPETS[next() % SNIPPETS.len()],
+                    &text[at..]
+                ),
+            };
+            text = edited;
+            let cached = check_with(path, &text, None, Some(&mut cache));
+            assert_eq!(
+                cached.diagnostics,
+                check(path, &text, None).diagnostics,
+                "{text}"
+            );
+            if crate::lang::parser::check_brackets(&text, FileId(0)).is_empty() {
+                parsed += 1;
+                good = text.clone();
+            }
+        }
+        // Most edits are past the bracket pass, where the cache works.
+        assert!(parsed > 100, "{parsed} of 300");
     }
 
     #[test]

@@ -21,6 +21,7 @@ pub mod positions;
 mod symbols;
 pub mod uri;
 
+use crate::lang::incremental::ParseCache;
 use analysis::Analysis;
 use lsp_server::{Connection, ExtractError, Message, Notification, Request, Response};
 use lsp_types::notification::{
@@ -286,6 +287,9 @@ fn extract<R: lsp_types::request::Request>(req: Request) -> Result<R::Params, St
 fn checker(queue: mpsc::Receiver<Job>, sender: impl Fn(Message), analyses: Analyses) {
     // What each open document's last check said of each file.
     let mut reports: HashMap<String, BTreeMap<PathBuf, Vec<Diagnostic>>> = HashMap::new();
+    // Each open document's parses, so that a keystroke re-parses only
+    // the part of the text it changed.
+    let mut caches: HashMap<String, ParseCache> = HashMap::new();
     while let Ok(first) = queue.recv() {
         std::thread::sleep(DEBOUNCE);
         // The latest job per document; earlier ones are superseded.
@@ -305,6 +309,7 @@ fn checker(queue: mpsc::Receiver<Job>, sender: impl Fn(Message), analyses: Analy
                     if let Ok(mut m) = analyses.lock() {
                         m.remove(uri.as_str());
                     }
+                    caches.remove(uri.as_str());
                     let old = reports.remove(uri.as_str()).unwrap_or_default();
                     publish(&sender, &reports, old.keys(), None);
                 }
@@ -323,7 +328,8 @@ fn checker(queue: mpsc::Receiver<Job>, sender: impl Fn(Message), analyses: Analy
                         continue;
                     };
                     let cpu = thread_cpu_seconds();
-                    let report = check::check(&path, &text, Some(cancel.clone()));
+                    let cache = caches.entry(uri.as_str().to_string()).or_default();
+                    let report = check::check_with(&path, &text, Some(cancel.clone()), Some(cache));
                     let cpu = thread_cpu_seconds() - cpu;
                     if cancel.load(Ordering::Relaxed) {
                         continue;

@@ -360,6 +360,83 @@ fn hover_completion_and_definition_answer() {
     c.finish();
 }
 
+/// A scene of `n` one-line objects, the `k`-th at line `k`.
+fn many_objects(n: usize) -> Vec<String> {
+    (0..n)
+        .map(|k| {
+            format!(
+                "sphere {{ centre <{}, 0, {}>  radius 0.4 }}",
+                k % 100,
+                k / 100
+            )
+        })
+        .collect()
+}
+
+/// Edits in a large scene re-parse only what changed (the server keeps
+/// the parses of the rest); the ranges must still be the full parse's:
+/// a mistake that lines inserted above it move down, a syntax error, and
+/// a fix.
+#[test]
+fn edits_in_a_large_scene_give_the_right_ranges() {
+    let dir = tempfile::tempdir().unwrap();
+    let u = uri(&dir.path().join("large.rt"));
+    let mut c = Client::start(dir.path());
+    let mut lines = many_objects(20_000);
+    c.open(&u, &(lines.join("\n") + "\n"));
+    let d = c.diagnostics(&u, |_| true);
+    assert!(d.is_empty(), "{d:?}");
+
+    // A misspelt parameter on line 12,000 (0-based 11,999).
+    lines[11_999] = "sphere { radus 1 }".into();
+    c.change(&u, 2, &(lines.join("\n") + "\n"));
+    let d = c.diagnostics(&u, |d| !d.is_empty());
+    assert_eq!(d.len(), 1, "{d:?}");
+    assert_eq!(range(&d[0]), (11_999, 9, 11_999, 14));
+
+    // Three lines inserted near the top, one of them a block over lines:
+    // the mistake moves down three lines.
+    lines.splice(
+        10..10,
+        ["box {".to_string(), "  min <0, 0, 0>".into(), "}".into()],
+    );
+    c.change(&u, 3, &(lines.join("\n") + "\n"));
+    let d = c.diagnostics(&u, |d| d.len() == 1 && range(&d[0]).0 != 11_999);
+    assert_eq!(range(&d[0]), (12_002, 9, 12_002, 14));
+
+    // A `]` for a `}` on line 5,001: only the bracket errors are
+    // reported (the stray `]`, and the `{` it left open), not the mistake.
+    lines[5_000] = "sphere { radius 1 ]".into();
+    c.change(&u, 4, &(lines.join("\n") + "\n"));
+    let d = c.diagnostics(&u, |d| d.iter().all(|d| range(d).0 != 12_002));
+    assert_eq!(d.len(), 2, "{d:?}");
+    assert_eq!(range(&d[0]), (5_000, 7, 5_000, 8), "{d:?}");
+    assert_eq!(range(&d[1]), (5_000, 18, 5_000, 19), "{d:?}");
+
+    // A `let` without its name on line 8,001: the whole-file parse's
+    // syntax error.
+    lines[5_000] = "sphere { radius 1 }".into();
+    lines[8_000] = "let = 1".into();
+    c.change(&u, 5, &(lines.join("\n") + "\n"));
+    let d = c.diagnostics(&u, |d| d.len() == 1 && range(&d[0]).0 != 5_000);
+    assert_eq!(range(&d[0]), (8_000, 4, 8_000, 5), "{d:?}");
+    assert!(
+        d[0]["message"]
+            .as_str()
+            .unwrap()
+            .contains("expected a name"),
+        "{d:?}"
+    );
+
+    // Both fixed.
+    lines[8_000] = "sphere { radius 1 }".into();
+    lines[12_002] = "sphere { radius 1 }".into();
+    c.change(&u, 6, &(lines.join("\n") + "\n"));
+    let d = c.diagnostics(&u, |d| d.is_empty());
+    assert!(d.is_empty());
+    c.finish();
+}
+
 #[test]
 fn a_runaway_loop_is_stopped_by_the_editor_s_budget() {
     let dir = tempfile::tempdir().unwrap();
