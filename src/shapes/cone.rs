@@ -475,4 +475,97 @@ mod tests {
             }
         }
     }
+
+    /// The window is open at both ends (`t_min < t < t_max`, as for every
+    /// shape): a crossing exactly at either end is outside it. Across a
+    /// unit cylinder, solid and open, and a cone whose side is 1 from the
+    /// axis at y = 0, the ray meets the side at exactly t = 4 and t = 6.
+    #[test]
+    fn a_crossing_exactly_at_a_window_end_is_outside() {
+        let r = Ray::new(DVec3::new(0.0, 0.0, 5.0), -DVec3::Z);
+        for c in [
+            Cone::new(DVec3::ZERO, 1.0, 1.0, 2.0, 0, Some([0, 0])),
+            Cone::new(DVec3::ZERO, 1.0, 1.0, 2.0, 0, None),
+            Cone::new(DVec3::ZERO, 1.5, 0.5, 2.0, 0, Some([0, 0])),
+        ] {
+            let mut xs = Vec::new();
+            c.crossings(&r, &mut xs);
+            assert_eq!(xs.iter().map(|h| h.t).collect::<Vec<_>>(), [4.0, 6.0]);
+            let t = |lo: f64, hi: f64| c.intersect(&r, lo, hi).map(|h| h.t);
+            assert_eq!(t(4.0, 99.0), Some(6.0));
+            assert!(c.occludes(&r, 4.0, 99.0));
+            for (lo, hi) in [(0.0, 4.0), (6.0, 99.0), (4.0, 6.0)] {
+                assert_eq!(t(lo, hi), None, "({lo}, {hi})");
+                assert!(!c.occludes(&r, lo, hi), "({lo}, {hi})");
+            }
+            assert_eq!(t(0.0, 4.0 + 1e-9), Some(4.0));
+            assert_eq!(t(6.0 - 1e-9, 99.0), Some(6.0));
+            assert!(c.occludes(&r, 6.0 - 1e-9, 99.0));
+        }
+    }
+
+    /// The light route (`crossings_lite`, then `hit_of` for the one CSG
+    /// keeps) gives the same crossings as `crossings`: the same t, facing
+    /// in where the ray enters and out where it leaves (the outward
+    /// normal's side), and the same hit — surface, normal, point,
+    /// material. Solid, pointed and open, with the side and each cap in
+    /// their own material.
+    #[test]
+    fn crossings_lite_and_hit_of_agree_with_crossings() {
+        let centre = DVec3::new(1.0, 2.0, -1.0);
+        // (the shape, how many surfaces: a point has no top cap)
+        for (c, surfaces) in [
+            (Cone::new(centre, 1.5, 0.3, 2.0, 1, Some([2, 3])), 3),
+            (Cone::new(centre, 1.0, 0.0, 3.0, 1, Some([2, 3])), 2),
+            (Cone::new(centre, 0.5, 1.5, 2.0, 1, None), 1),
+        ] {
+            let mut materials = std::collections::HashSet::new();
+            let mut met = 0;
+            for r in testing::rays_towards(centre, 2.0, 400, 29) {
+                let mut xs = Vec::new();
+                c.crossings(&r, &mut xs);
+                let mut lite = Vec::new();
+                c.crossings_lite(&r, &mut lite);
+                assert_eq!(xs.len(), lite.len());
+                for (x, l) in xs.iter().zip(&lite) {
+                    assert_eq!(l.t, x.t);
+                    let h = c.hit_of(&r, l);
+                    assert_eq!(
+                        (h.t, h.point, h.normal, h.material),
+                        (x.t, x.point, x.normal, x.material)
+                    );
+                    if !l.grazing {
+                        assert_eq!(l.facing.signum(), x.normal.dot(r.dir).signum());
+                    }
+                    materials.insert(x.material);
+                }
+                if c.is_solid() && !xs.is_empty() {
+                    assert!(lite[0].facing < 0.0 && lite[1].facing > 0.0, "{lite:?}");
+                }
+                met += !xs.is_empty() as usize;
+            }
+            assert!(met > 100, "{met}");
+            assert_eq!(materials.len(), surfaces, "{materials:?}");
+        }
+    }
+
+    /// The box is the wider end's radius across and the height tall about
+    /// the centre, and holds every hit; shadow rays agree with the
+    /// crossings in every window; capped is solid, open is not.
+    #[test]
+    fn bounds_shadows_and_solidity() {
+        let centre = DVec3::new(1.0, 2.0, -1.0);
+        for (c, solid) in [
+            (Cone::new(centre, 1.5, 0.3, 2.0, 1, Some([2, 3])), true),
+            (Cone::new(centre, 0.5, 1.5, 3.0, 1, None), false),
+        ] {
+            let (r, h) = if solid { (1.5, 1.0) } else { (1.5, 1.5) };
+            let e = DVec3::new(r, h, r);
+            assert_eq!(c.bounds(), Aabb::new(centre - e, centre + e));
+            let rays = testing::rays_towards(centre, 2.0, 400, 31);
+            assert!(testing::check_bounds_hold_hits(&c, &rays) > 100);
+            assert!(testing::check_occludes_agrees(&c, &rays) > 100);
+            assert_eq!(c.is_solid(), solid);
+        }
+    }
 }
