@@ -568,4 +568,131 @@ mod tests {
             assert_eq!(c.is_solid(), solid);
         }
     }
+
+    /// A hit's point is put back on its surface: a side point's distance
+    /// from the axis is the radius at its height, a cap's point is on the
+    /// cap's plane within its rim, up to a few roundings; and its error
+    /// bound is a few roundings of the magnitudes involved (never
+    /// negative, never a multiple of the shape's size), near the origin
+    /// and far from it, for a frustum, a cylinder and a pointed cone.
+    #[test]
+    fn hit_points_are_on_the_surface_with_a_rounding_sized_error() {
+        let eps = f64::EPSILON;
+        for centre in [DVec3::new(0.1, -0.2, 0.3), DVec3::new(1e3, -2e3, 5e2)] {
+            for (r0, r1) in [(1.5, 0.3), (0.8, 0.8), (1.0, 0.0)] {
+                let c = Cone::new(centre, r0, r1, 2.0, 1, Some([2, 3]));
+                let (y0, y1) = (centre.y - 1.0, centre.y + 1.0);
+                let mag = centre.abs().max_element() + 2.0;
+                let mut sides = 0;
+                for ray in testing::rays_towards(centre, 2.0, 300, 37) {
+                    let mut xs = Vec::new();
+                    c.crossings(&ray, &mut xs);
+                    for h in &xs {
+                        let e = h.p_error;
+                        assert!(e.min_element() >= 0.0, "{e:?}");
+                        assert!(e.max_element() <= 16.0 * eps * mag, "{e:?} vs {mag}");
+                        let q = h.point - centre;
+                        let rho = q.x.hypot(q.z);
+                        match h.material {
+                            1 => {
+                                let r = r0 + (r1 - r0) * (h.point.y - y0) / 2.0;
+                                let off = (rho - r).abs();
+                                assert!(off <= 16.0 * eps * mag, "{off} off the side");
+                                assert!(h.point.y >= y0 - 1e-9 && h.point.y <= y1 + 1e-9);
+                                sides += 1;
+                            }
+                            2 => {
+                                assert_eq!(h.point.y, y1);
+                                assert!(rho <= r1 * (1.0 + 1e-9), "{rho}");
+                            }
+                            _ => {
+                                assert_eq!(h.point.y, y0);
+                                assert!(rho <= r0 * (1.0 + 1e-9), "{rho}");
+                            }
+                        }
+                    }
+                }
+                assert!(sides > 50, "{sides}");
+            }
+        }
+    }
+
+    /// The rims belong to the surface. A horizontal ray exactly at the
+    /// height of an open tube's rim meets the tube there; the same ray
+    /// against a solid cylinder meets its side at the rim, which is shaded
+    /// as side (v = 0 or 1), not cap; a ray straight down the wall of a
+    /// solid cylinder (at exactly the radius) meets both caps at their
+    /// rims.
+    #[test]
+    fn rims_belong_to_the_surface() {
+        let open = Cone::cylinder(DVec3::ZERO, 1.0, 2.0, 1, None);
+        let solid = Cone::cylinder(DVec3::ZERO, 1.0, 2.0, 1, Some([2, 3]));
+        for (y, v) in [(1.0, 1.0), (-1.0, 0.0)] {
+            let r = Ray::new(DVec3::new(0.0, y, 5.0), -DVec3::Z);
+            let h = open.intersect(&r, 0.0, 99.0).expect("the open rim");
+            assert_eq!((h.t, h.point), (4.0, DVec3::new(0.0, y, 1.0)));
+            let h = solid.intersect(&r, 0.0, 99.0).expect("the solid's rim");
+            assert_eq!((h.t, h.material, h.normal), (4.0, 1, DVec3::Z));
+            assert!((solid.uv(&h) - DVec2::new(0.0, v)).length() < 1e-12);
+        }
+        for p in [DVec3::new(1.0, 5.0, 0.0), DVec3::new(0.0, 5.0, -1.0)] {
+            let mut xs = Vec::new();
+            solid.crossings(&Ray::new(p, -DVec3::Y), &mut xs);
+            let got: Vec<_> = xs.iter().map(|h| (h.t, h.material)).collect();
+            assert_eq!(got, [(4.0, 2), (6.0, 3)], "down the wall at {p:?}");
+        }
+    }
+
+    /// A line parallel to one of a cone's generators (its quadratic term
+    /// vanishes) still meets the side once: here up the cone of radius 1
+    /// at y = −1 and apex at y = 1, through the base at x = 0.5 and out
+    /// of the side at (−0.25, 0.5, 0), where the radius is 0.25.
+    #[test]
+    fn a_line_along_a_generator_meets_the_side_once() {
+        let c = Cone::new(DVec3::ZERO, 1.0, 0.0, 2.0, 1, Some([2, 3]));
+        let r = Ray::new(DVec3::new(1.5, -3.0, 0.0), DVec3::new(-1.0, 2.0, 0.0));
+        let mut xs = Vec::new();
+        c.crossings(&r, &mut xs);
+        assert_eq!(xs.len(), 2);
+        assert_eq!((xs[0].t, xs[0].material), (1.0, 3));
+        assert!(
+            (xs[1].t - 1.75).abs() < 1e-12 && xs[1].material == 1,
+            "{xs:?}"
+        );
+        assert!((xs[1].point - DVec3::new(-0.25, 0.5, 0.0)).length() < 1e-12);
+        let open = Cone::new(DVec3::ZERO, 1.0, 0.0, 2.0, 1, None);
+        let h = open.intersect(&r, 0.0, 99.0).unwrap();
+        assert!((h.t - 1.75).abs() < 1e-12);
+    }
+
+    /// The side's u is in [0, 1): a point a hair west of +z (x = −1e−20)
+    /// has u = 1 − 1.6e−21, which rounds to 1 and is held just below it.
+    #[test]
+    fn side_u_stays_below_one_at_the_seam() {
+        let c = Cone::cylinder(DVec3::ZERO, 1.0, 2.0, 1, None);
+        let h = c
+            .intersect(&Ray::new(DVec3::new(-1e-20, 0.0, 5.0), -DVec3::Z), 0.0, 9.0)
+            .unwrap();
+        let uv = c.uv(&h);
+        assert!(uv.x < 1.0 && uv.x > 0.999, "{uv:?}");
+    }
+
+    /// At the apex the side has no normal of its own; the crossing there
+    /// still faces the way the ray goes in: down the axis of an upright
+    /// cone the apex is entered (facing < 0), the base left.
+    #[test]
+    fn the_apex_is_entered_from_above() {
+        let c = Cone::new(DVec3::new(0.0, 1.0, 0.0), 1.0, 0.0, 2.0, 1, Some([2, 3]));
+        let r = Ray::new(DVec3::new(0.0, 5.0, 0.0), -DVec3::Y);
+        let mut lite = Vec::new();
+        c.crossings_lite(&r, &mut lite);
+        assert_eq!(lite.len(), 2);
+        assert!(
+            (lite[0].t - 3.0).abs() < 1e-9 && lite[0].facing < 0.0,
+            "{lite:?}"
+        );
+        assert!(lite[1].t == 5.0 && lite[1].facing > 0.0, "{lite:?}");
+        let h = c.hit_of(&r, &lite[0]);
+        assert!(h.normal.is_finite() && h.normal.dot(DVec3::Y) > 0.0);
+    }
 }
