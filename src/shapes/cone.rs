@@ -695,4 +695,23 @@ mod tests {
         let h = c.hit_of(&r, &lite[0]);
         assert!(h.normal.is_finite() && h.normal.dot(DVec3::Y) > 0.0);
     }
+
+    /// The rim's slack is relative to the shape's size: a ray passing 1%
+    /// of the height above the rim of a small open tube (height 1e−4)
+    /// misses it, and one 1e−9 of the height below it hits, as for a
+    /// tube of unit size.
+    #[test]
+    fn passing_just_above_a_small_tubes_rim_misses_it() {
+        for size in [1e-4, 1.0, 1e3] {
+            let tube = Cone::cylinder(DVec3::ZERO, size, 2.0 * size, 1, None);
+            let at = |y: f64| {
+                let r = Ray::new(DVec3::new(0.0, y, 5.0 * size), -DVec3::Z);
+                tube.intersect(&r, 0.0, f64::INFINITY)
+            };
+            assert!(at(1.01 * size).is_none(), "{size}");
+            assert!(at(-1.01 * size).is_none(), "{size}");
+            assert!(at((1.0 - 1e-9) * size).is_some(), "{size}");
+            assert!(at(-(1.0 - 1e-9) * size).is_some(), "{size}");
+        }
+    }
 }
