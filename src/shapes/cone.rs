@@ -714,4 +714,32 @@ mod tests {
             assert!(at(-(1.0 - 1e-9) * size).is_some(), "{size}");
         }
     }
+
+    /// A pointed cone has no top cap: a ray through its apex, from any
+    /// direction above, meets it there as side (the side's material), not
+    /// as a cap of radius 0 (the point within the double root's √ε of it).
+    #[test]
+    fn the_apex_of_a_pointed_cone_is_side_not_cap() {
+        let c = Cone::new(DVec3::new(0.2, 1.0, -0.3), 1.0, 0.0, 2.0, 1, Some([2, 3]));
+        let apex = DVec3::new(0.2, 2.0, -0.3);
+        let mut met = 0;
+        for i in 0..40 {
+            let phi = 0.7 * i as f64;
+            let up = 0.2 + 0.8 * (i as f64 / 40.0);
+            let u = DVec3::new(
+                phi.cos() * (1.0 - up * up).sqrt(),
+                up,
+                phi.sin() * (1.0 - up * up).sqrt(),
+            );
+            let r = Ray::new(apex + 5.0 * u, -u);
+            let mut xs = Vec::new();
+            c.crossings(&r, &mut xs);
+            if let Some(h) = xs.first() {
+                assert!((h.point - apex).length() < 1e-6, "{h:?}");
+                assert_eq!(h.material, 1, "through the apex along {:?}", -u);
+                met += 1;
+            }
+        }
+        assert!(met > 10, "{met}");
+    }
 }
