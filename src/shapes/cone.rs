@@ -742,4 +742,44 @@ mod tests {
         }
         assert!(met > 10, "{met}");
     }
+
+    /// An upside-down cone (radius 0 at the bottom) has its apex below:
+    /// up the axis from beneath, the apex is entered (facing < 0) with a
+    /// normal pointing down, out of the cone, and the top cap is left.
+    #[test]
+    fn the_apex_of_an_upside_down_cone_faces_down() {
+        let c = Cone::new(DVec3::new(0.0, 1.0, 0.0), 0.0, 1.0, 2.0, 1, Some([2, 3]));
+        let r = Ray::new(DVec3::new(0.0, -3.0, 0.0), DVec3::Y);
+        let mut lite = Vec::new();
+        c.crossings_lite(&r, &mut lite);
+        assert_eq!(lite.len(), 2);
+        assert!(
+            (lite[0].t - 3.0).abs() < 1e-9 && lite[0].facing < 0.0,
+            "{lite:?}"
+        );
+        assert!(lite[1].t == 5.0 && lite[1].facing > 0.0, "{lite:?}");
+        let h = c.hit_of(&r, &lite[0]);
+        assert!(h.normal.dot(-DVec3::Y) > 0.9, "{:?}", h.normal);
+        let h = c.intersect(&r, 0.0, 9.0).unwrap();
+        assert!(h.normal.dot(-DVec3::Y) > 0.9, "{:?}", h.normal);
+    }
+
+    /// A cap's hit carries its texture coordinates itself (some shading
+    /// reads `hit.uv` directly): the disc's (x − c.x + r)/2r,
+    /// (z − c.z + r)/2r, the same as the shape's `uv`, for a frustum away
+    /// from the origin with caps of different radii.
+    #[test]
+    fn a_caps_hit_carries_its_uv() {
+        let centre = DVec3::new(2.0, -1.0, 3.0);
+        let c = Cone::new(centre, 1.5, 0.5, 2.0, 1, Some([2, 3]));
+        for (y, dir, r) in [(5.0, -DVec3::Y, 0.5), (-5.0, DVec3::Y, 1.5)] {
+            for (x, z) in [(0.1, -0.3), (-0.4, 0.2)] {
+                let o = centre + DVec3::new(x, y, z);
+                let h = c.intersect(&Ray::new(o, dir), 0.0, 99.0).unwrap();
+                let want = DVec2::new((x + r) / (2.0 * r), (z + r) / (2.0 * r));
+                assert!((h.uv - want).length() < 1e-12, "{:?} vs {want:?}", h.uv);
+                assert!((c.uv(&h) - want).length() < 1e-12);
+            }
+        }
+    }
 }
