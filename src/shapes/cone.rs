@@ -782,4 +782,24 @@ mod tests {
             }
         }
     }
+
+    /// A capped frustum's side near its wide end is side, not cap: its
+    /// points lie inside the wide cap's rim (seen from above), but 5% of
+    /// the height away from its plane, so their uv is the side's
+    /// (v = 0.05 above the base), at every size.
+    #[test]
+    fn side_near_the_wide_cap_has_the_sides_uv() {
+        for size in [1e-4, 1.0, 1e3] {
+            let c = Cone::new(DVec3::ZERO, 1.5 * size, 0.5 * size, size, 1, Some([2, 3]));
+            let y = -0.45 * size;
+            let r = Ray::new(DVec3::new(0.0, y, 5.0 * size), -DVec3::Z);
+            let h = c.intersect(&r, 0.0, f64::INFINITY).unwrap();
+            assert_eq!(h.material, 1);
+            let uv = c.uv(&h);
+            assert!(
+                (uv - DVec2::new(0.0, 0.05)).length() < 1e-9,
+                "{uv:?} at {size}"
+            );
+        }
+    }
 }
