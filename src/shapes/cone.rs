@@ -650,19 +650,22 @@ mod tests {
     #[test]
     fn a_line_along_a_generator_meets_the_side_once() {
         let c = Cone::new(DVec3::ZERO, 1.0, 0.0, 2.0, 1, Some([2, 3]));
-        let r = Ray::new(DVec3::new(1.5, -3.0, 0.0), DVec3::new(-1.0, 2.0, 0.0));
-        let mut xs = Vec::new();
-        c.crossings(&r, &mut xs);
-        assert_eq!(xs.len(), 2);
-        assert_eq!((xs[0].t, xs[0].material), (1.0, 3));
-        assert!(
-            (xs[1].t - 1.75).abs() < 1e-12 && xs[1].material == 1,
-            "{xs:?}"
-        );
-        assert!((xs[1].point - DVec3::new(-0.25, 0.5, 0.0)).length() < 1e-12);
         let open = Cone::new(DVec3::ZERO, 1.0, 0.0, 2.0, 1, None);
-        let h = open.intersect(&r, 0.0, 99.0).unwrap();
-        assert!((h.t - 1.75).abs() < 1e-12);
+        // Directions of several lengths: t scales, the points do not.
+        for k in [1.0, 3.0, 0.25] {
+            let r = Ray::new(DVec3::new(1.5, -3.0, 0.0), DVec3::new(-1.0, 2.0, 0.0) * k);
+            let mut xs = Vec::new();
+            c.crossings(&r, &mut xs);
+            assert_eq!(xs.len(), 2, "{k}");
+            assert!((xs[0].t * k - 1.0).abs() < 1e-12 && xs[0].material == 3);
+            assert!(
+                (xs[1].t * k - 1.75).abs() < 1e-12 && xs[1].material == 1,
+                "{xs:?}"
+            );
+            assert!((xs[1].point - DVec3::new(-0.25, 0.5, 0.0)).length() < 1e-12);
+            let h = open.intersect(&r, 0.0, 99.0).unwrap();
+            assert!((h.t * k - 1.75).abs() < 1e-12, "{k}");
+        }
     }
 
     /// The side's u is in [0, 1): a point a hair west of +z (x = −1e−20)
