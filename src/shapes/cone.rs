@@ -805,4 +805,41 @@ mod tests {
             );
         }
     }
+
+    /// Seen from far away (1e6 to 1e8), t carries a rounding of the
+    /// distance, and o + t·d is off the side by far more than the shape's
+    /// own rounding: the side's hit point is pulled back onto it (its
+    /// distance from the axis the radius at its height, to a few
+    /// roundings of the shape's size), with a bound of that size too.
+    #[test]
+    fn side_hits_from_far_away_are_pulled_onto_the_side() {
+        let eps = f64::EPSILON;
+        let centre = DVec3::new(0.1, -0.2, 0.3);
+        for (r0, r1) in [(1.5, 0.3), (0.8, 0.8)] {
+            let c = Cone::new(centre, r0, r1, 2.0, 1, Some([2, 3]));
+            let mag = centre.abs().max_element() + 2.0;
+            let mut sides = 0;
+            for far in [1e6, 1e8] {
+                for r in testing::rays_towards(centre, 1.5, 200, 41) {
+                    let o = centre + (r.origin - centre) * (far / 10.0);
+                    let aim = centre + (r.origin + r.dir * 10.0 - centre) * 1.0;
+                    let ray = Ray::new(o, (aim - o).normalize());
+                    let Some(h) = c.intersect(&ray, 0.0, f64::INFINITY) else {
+                        continue;
+                    };
+                    if h.material != 1 {
+                        continue;
+                    }
+                    let q = h.point - centre;
+                    let r = r0 + (r1 - r0) * (h.point.y - (centre.y - 1.0)) / 2.0;
+                    let off = (q.x.hypot(q.z) - r).abs();
+                    assert!(off <= 16.0 * eps * mag, "{off} off the side from {far:e}");
+                    let e = h.p_error;
+                    assert!(e.max_element() <= 16.0 * eps * mag, "{e:?} from {far:e}");
+                    sides += 1;
+                }
+            }
+            assert!(sides > 100, "{sides}");
+        }
+    }
 }
