@@ -842,4 +842,20 @@ mod tests {
             assert!(sides > 100, "{sides}");
         }
     }
+
+    /// At the apex the side point is not pulled anywhere (no direction
+    /// from the axis): its error bound must still be non-negative and a
+    /// few roundings of the cone's size, from near and from far above.
+    #[test]
+    fn the_apex_hit_has_a_rounding_sized_bound() {
+        let c = Cone::new(DVec3::new(0.0, 1.0, 0.0), 2.0, 0.0, 2.0, 1, Some([2, 3]));
+        for y in [2.5, 5.0, 1e3] {
+            let r = Ray::new(DVec3::new(0.0, y, 0.0), -DVec3::Y);
+            let h = c.intersect(&r, 0.0, f64::INFINITY).unwrap();
+            assert_eq!(h.point, DVec3::new(0.0, 2.0, 0.0));
+            let e = h.p_error;
+            assert!(e.min_element() >= 0.0, "{e:?}");
+            assert!(e.max_element() <= 16.0 * f64::EPSILON * y, "{e:?}");
+        }
+    }
 }
