@@ -858,4 +858,40 @@ mod tests {
             assert!(e.max_element() <= 16.0 * f64::EPSILON * y, "{e:?}");
         }
     }
+
+    /// The side's error bound at other sizes and slopes: tiny (1e−3) near
+    /// the origin, widening upwards, and steep (height 0.2) far from the
+    /// origin. A side point's bound is non-negative and a few roundings of
+    /// the magnitudes involved (the centre's and the shape's own), and the
+    /// point is that close to the side.
+    #[test]
+    fn side_error_bounds_at_other_sizes_and_slopes() {
+        let eps = f64::EPSILON;
+        for (centre, r0, r1, h) in [
+            (DVec3::new(2e-4, -1e-4, 3e-4), 1.5e-3, 0.3e-3, 2e-3),
+            (DVec3::new(0.0, 1e-4, 0.0), 1e-4, 2e-3, 2e-3),
+            (DVec3::new(0.0, 0.1, 0.0), 0.1, 2.0, 2.0),
+            (DVec3::new(1e3, -2e3, 5e2), 1.5, 0.3, 0.2),
+        ] {
+            let c = Cone::new(centre, r0, r1, h, 1, Some([2, 3]));
+            let size = r0.max(r1).max(h);
+            let mag = centre.abs().max_element() + size;
+            let mut sides = 0;
+            for ray in testing::rays_towards(centre, size, 300, 43) {
+                let mut xs = Vec::new();
+                c.crossings(&ray, &mut xs);
+                for hit in xs.iter().filter(|x| x.material == 1) {
+                    let e = hit.p_error;
+                    assert!(e.min_element() >= 0.0, "{e:?} on {c:?}");
+                    assert!(e.max_element() <= 16.0 * eps * mag, "{e:?} vs {mag}");
+                    let q = hit.point - centre;
+                    let r = r0 + (r1 - r0) * (hit.point.y - (centre.y - h / 2.0)) / h;
+                    let off = (q.x.hypot(q.z) - r).abs();
+                    assert!(off <= 16.0 * eps * mag, "{off} off the side");
+                    sides += 1;
+                }
+            }
+            assert!(sides > 100, "{sides}");
+        }
+    }
 }
