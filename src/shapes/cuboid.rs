@@ -276,4 +276,150 @@ mod tests {
         testing::check_no_rehit(&b, &rays);
         assert!(testing::check_normals(&b, &rays) > 100);
     }
+
+    /// Each face's (u, v) is the hit's position across the face as a
+    /// fraction of the box's extents (the module's table), for a box away
+    /// from the origin (so min and max are not the extents): all six
+    /// faces, at points that tell u from v and the axes apart.
+    #[test]
+    fn uv_is_the_fraction_across_each_face_off_the_origin() {
+        let (min, max) = (DVec3::new(-1.0, 2.0, 0.5), DVec3::new(1.0, 5.0, 2.5));
+        let b = Cuboid::new(min, max, [0; 6]);
+        let size = max - min;
+        let centre = (min + max) / 2.0;
+        for n in [
+            DVec3::X,
+            -DVec3::X,
+            DVec3::Y,
+            -DVec3::Y,
+            DVec3::Z,
+            -DVec3::Z,
+        ] {
+            for (i, j) in [(0.2, 0.7), (0.9, 0.35)] {
+                // Two in-face axes in the table's order (x before y before z).
+                let axes: Vec<usize> = (0..3).filter(|&a| n[a] == 0.0).collect();
+                let mut p = centre + n * 10.0;
+                p[axes[0]] = min[axes[0]] + i * size[axes[0]];
+                p[axes[1]] = min[axes[1]] + j * size[axes[1]];
+                let h = b.intersect(&Ray::new(p, -n), 0.0, f64::INFINITY).unwrap();
+                assert_eq!(h.normal, n);
+                assert!(
+                    (h.uv - DVec2::new(i, j)).length() < 1e-12,
+                    "{:?} vs ({i}, {j}) on {n:?}",
+                    h.uv
+                );
+            }
+        }
+    }
+
+    /// The window is open at both ends (`t_min < t < t_max`, as for every
+    /// shape): a crossing exactly at either end is outside it. Down the z
+    /// axis the box is entered at exactly t = 5 and left at t = 9.
+    #[test]
+    fn a_crossing_exactly_at_a_window_end_is_outside() {
+        let b = unit();
+        let r = Ray::new(DVec3::new(1.0, 1.0, 9.0), -DVec3::Z);
+        let mut xs = Vec::new();
+        b.crossings(&r, &mut xs);
+        assert_eq!(xs.iter().map(|h| h.t).collect::<Vec<_>>(), [5.0, 9.0]);
+        let t = |lo: f64, hi: f64| b.intersect(&r, lo, hi).map(|h| h.t);
+        assert_eq!(t(5.0, 99.0), Some(9.0));
+        assert!(b.occludes(&r, 5.0, 99.0));
+        for (lo, hi) in [(0.0, 5.0), (9.0, 99.0), (5.0, 9.0)] {
+            assert_eq!(t(lo, hi), None, "({lo}, {hi})");
+            assert!(!b.occludes(&r, lo, hi), "({lo}, {hi})");
+        }
+        assert_eq!(t(0.0, 5.0 + 1e-9), Some(5.0));
+        assert_eq!(t(9.0 - 1e-9, 99.0), Some(9.0));
+        assert!(b.occludes(&r, 9.0 - 1e-9, 99.0));
+    }
+
+    /// The light route (`crossings_lite`, then `hit_of` for the one CSG
+    /// keeps) gives the same crossings as `crossings`: the same t, facing
+    /// in where the ray enters and out where it leaves, and the same hit —
+    /// face, normal, point, uv and material (each face has its own).
+    #[test]
+    fn crossings_lite_and_hit_of_agree_with_crossings() {
+        let b = unit();
+        let mut met = 0;
+        let mut faces = std::collections::HashSet::new();
+        for r in testing::rays_towards(DVec3::new(1.0, 1.5, 2.0), 3.0, 400, 19) {
+            let mut xs = Vec::new();
+            b.crossings(&r, &mut xs);
+            let mut lite = Vec::new();
+            b.crossings_lite(&r, &mut lite);
+            assert_eq!(xs.len(), lite.len());
+            if xs.is_empty() {
+                continue;
+            }
+            for (x, c) in xs.iter().zip(&lite) {
+                assert_eq!(c.t, x.t);
+                let h = b.hit_of(&r, c);
+                assert_eq!(
+                    (h.t, h.point, h.normal, h.uv, h.material),
+                    (x.t, x.point, x.normal, x.uv, x.material)
+                );
+                assert_eq!(c.facing.signum(), x.normal.dot(r.dir).signum());
+                faces.insert(x.material);
+            }
+            assert!(lite[0].facing < 0.0 && lite[1].facing > 0.0, "{lite:?}");
+            met += 1;
+        }
+        assert!(met > 100, "{met}");
+        assert_eq!(faces.len(), 6, "{faces:?}");
+    }
+
+    /// The box is its corners' box and holds every hit; shadow rays agree
+    /// with the crossings in every window; it is a solid.
+    #[test]
+    fn bounds_hold_every_hit_and_it_is_solid() {
+        let b = Cuboid::new(
+            DVec3::new(1.0, -2.0, 3.0),
+            DVec3::new(-1.0, 0.5, 2.0),
+            [0; 6],
+        );
+        assert_eq!(
+            b.bounds(),
+            Aabb::new(DVec3::new(-1.0, -2.0, 2.0), DVec3::new(1.0, 0.5, 3.0))
+        );
+        let rays = testing::rays_towards(DVec3::new(0.0, -0.75, 2.5), 2.0, 300, 23);
+        assert!(testing::check_bounds_hold_hits(&b, &rays) > 100);
+        assert!(testing::check_occludes_agrees(&b, &rays) > 100);
+        assert!(b.is_solid());
+    }
+
+    /// A ray running in the plane of a face belongs to the (closed) box:
+    /// along each of the six face planes, through the box, it meets the
+    /// far side at the face's edge.
+    #[test]
+    fn a_ray_in_the_plane_of_any_face_meets_the_box() {
+        let b = unit();
+        for (o, d, t) in [
+            (DVec3::new(0.0, 1.0, -5.0), DVec3::Z, 5.0),
+            (DVec3::new(2.0, 1.0, -5.0), DVec3::Z, 5.0),
+            (DVec3::new(1.0, 0.0, -5.0), DVec3::Z, 5.0),
+            (DVec3::new(1.0, 3.0, -5.0), DVec3::Z, 5.0),
+            (DVec3::new(-5.0, 1.0, 0.0), DVec3::X, 5.0),
+            (DVec3::new(-5.0, 1.0, 4.0), DVec3::X, 5.0),
+        ] {
+            let h = b.intersect(&Ray::new(o, d), 0.0, f64::INFINITY);
+            assert_eq!(h.map(|h| h.t), Some(t), "from {o:?} along {d:?}");
+        }
+    }
+
+    /// A line that touches an edge (entering one slab as it leaves
+    /// another, at the same t) meets the box at that edge.
+    #[test]
+    fn a_line_touching_an_edge_meets_the_box_there() {
+        let b = unit();
+        // Past the edge x = 0, y = 3 at z = 1, rising at 45°: the line
+        // y = 3 + x has the whole box on or below it.
+        let r = Ray::new(DVec3::new(-1.0, 2.0, 1.0), DVec3::new(1.0, 1.0, 0.0));
+        let h = b.intersect(&r, 0.0, f64::INFINITY).unwrap();
+        assert_eq!(h.t, 1.0);
+        assert_eq!(h.point, DVec3::new(0.0, 3.0, 1.0));
+        // A hair higher, it misses.
+        let r = Ray::new(DVec3::new(-1.0, 2.0 + 1e-9, 1.0), DVec3::new(1.0, 1.0, 0.0));
+        assert!(b.intersect(&r, 0.0, f64::INFINITY).is_none());
+    }
 }

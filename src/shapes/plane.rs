@@ -292,6 +292,50 @@ mod tests {
         assert!(checked > 1000, "{checked}");
     }
 
+    /// Rays from far away (1e14 to 1e17 from the plane, aimed at its
+    /// nearest point to the origin): o + t·d then carries a rounding of
+    /// the origin's size, so the ray's point may lie off the plane by as
+    /// much as the plane's own offset, on either side. Snapped back, the
+    /// hit point must still lie on the plane within its error bound, and
+    /// the bound must never be negative: the magnitudes it covers are
+    /// |n|·|p| and |d| added, not one less the other.
+    #[test]
+    fn rays_from_far_away_keep_the_error_bound_sound() {
+        let planes = [
+            Plane::new(DVec3::new(0.3, 1.0, 0.2), 5.0, 0),
+            Plane::new(DVec3::new(1.0, 2.0, 0.5), 1e3, 0),
+            Plane::new(DVec3::new(-2.0, 0.5, 3.0), -7.5, 0),
+        ];
+        let mut checked = 0;
+        for p in &planes {
+            let on = p.normal * p.offset;
+            for far in [1e14, 1e15, 1e16, 1e17] {
+                for r in crate::shapes::testing::rays_towards(on, 1.0, 300, 5) {
+                    let out = r.origin - on;
+                    let o = on + out * (far / 10.0);
+                    let aim = on + out.cross(DVec3::X) * 0.1;
+                    let ray = Ray::new(o, (aim - o).normalize());
+                    let Some(t) = p.root(&ray) else {
+                        continue;
+                    };
+                    let mut xs = Vec::new();
+                    p.crossings(&ray, &mut xs);
+                    let h = &xs[0];
+                    assert_eq!(h.t, t);
+                    let e = h.p_error;
+                    assert!(e.min_element() >= 0.0, "{e:?} for {ray:?}");
+                    let off = exact_residual(p.normal, h.point, p.offset).abs();
+                    assert!(
+                        off <= p.normal.abs().dot(e),
+                        "{off} off the plane, bound {e:?}, for {ray:?}"
+                    );
+                    checked += 1;
+                }
+            }
+        }
+        assert!(checked > 3000, "{checked}");
+    }
+
     /// The shadow-shaft cull: a hull surely misses the plane only when all
     /// its points are clearly on one side; a point on the plane, within
     /// rounding of it, or points on both sides keep the plane in.

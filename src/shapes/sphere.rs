@@ -303,4 +303,128 @@ mod tests {
             }
         }
     }
+
+    /// The window is open at both ends (`t_min < t < t_max`, as for every
+    /// shape): a crossing exactly at either end is outside it. The ray
+    /// down the z axis meets the unit sphere at exactly t = 4 and t = 6.
+    #[test]
+    fn a_crossing_exactly_at_a_window_end_is_outside() {
+        let s = Sphere::new(DVec3::ZERO, 1.0, 0);
+        let r = Ray::new(DVec3::new(0.0, 0.0, 5.0), -DVec3::Z);
+        assert_eq!(s.roots(&r), Some((4.0, 6.0)));
+        let t = |lo: f64, hi: f64| s.intersect(&r, lo, hi).map(|h| h.t);
+        // From t = 4 on, the sphere is next met on leaving it, at 6.
+        assert_eq!(t(4.0, 9.0), Some(6.0));
+        assert!(s.occludes(&r, 4.0, 9.0));
+        // Up to 4, or from 6 on: nothing; between the two: nothing.
+        assert_eq!(t(0.0, 4.0), None);
+        assert!(!s.occludes(&r, 0.0, 4.0));
+        assert_eq!(t(6.0, 9.0), None);
+        assert!(!s.occludes(&r, 6.0, 9.0));
+        assert_eq!(t(4.0, 6.0), None);
+        assert!(!s.occludes(&r, 4.0, 6.0));
+        // Just past the ends, both are in.
+        assert_eq!(t(0.0, 4.0 + 1e-9), Some(4.0));
+        assert_eq!(t(6.0 - 1e-9, 9.0), Some(6.0));
+        assert!(s.occludes(&r, 6.0 - 1e-9, 9.0));
+    }
+
+    /// The light route (`crossings_lite`, then `hit_of` for the one CSG
+    /// keeps) gives the same crossings as `crossings`: the same t, facing
+    /// in (negative) where the ray enters and out where it leaves, the
+    /// same hit. Off the origin, so that p − c and p + c differ.
+    #[test]
+    fn crossings_lite_and_hit_of_agree_with_crossings() {
+        let s = Sphere::new(DVec3::new(1.0, -2.0, 0.5), 1.5, 0);
+        let mut met = 0;
+        for r in testing::rays_towards(s.centre, 2.0, 300, 13) {
+            let mut xs = Vec::new();
+            s.crossings(&r, &mut xs);
+            let mut lite = Vec::new();
+            s.crossings_lite(&r, &mut lite);
+            assert_eq!(xs.len(), lite.len());
+            if xs.is_empty() {
+                continue;
+            }
+            assert_eq!(xs.len(), 2);
+            for (x, c) in xs.iter().zip(&lite) {
+                assert_eq!(c.t, x.t);
+                let h = s.hit_of(&r, c);
+                assert_eq!((h.t, h.point, h.normal), (x.t, x.point, x.normal));
+                assert_eq!(c.facing.signum(), x.normal.dot(r.dir).signum());
+            }
+            // The origin is outside: in first, out second.
+            assert!(lite[0].facing < 0.0 && lite[1].facing > 0.0, "{lite:?}");
+            met += 1;
+        }
+        assert!(met > 100, "{met}");
+    }
+
+    /// u is in [0, 1): a direction a hair west of +z (x = −1e−20) has
+    /// u = 1 − 1.6e−21, which rounds to 1 and is held just below it.
+    #[test]
+    fn u_stays_below_one_at_the_seam() {
+        let uv = sphere_uv(DVec3::new(-1e-20, 0.0, 1.0));
+        assert!(uv.x < 1.0 && uv.x > 0.999, "{uv:?}");
+        assert_eq!(sphere_uv(DVec3::Z).x, 0.0);
+    }
+
+    /// A sphere of radius 0 is its centre: a ray through the centre meets
+    /// it there, and the hit's point is the centre with a finite bound
+    /// (there is no direction to pull it along).
+    #[test]
+    fn a_point_sphere_is_met_at_its_centre() {
+        let c = DVec3::new(0.5, -1.0, 2.0);
+        let s = Sphere::new(c, 0.0, 0);
+        let r = Ray::new(c + DVec3::new(0.0, 0.0, 4.0), -DVec3::Z);
+        let mut xs = Vec::new();
+        s.crossings(&r, &mut xs);
+        assert_eq!(xs.len(), 2);
+        for h in &xs {
+            assert_eq!(h.t, 4.0);
+            assert_eq!(h.point, c);
+            assert!(h.p_error.is_finite() && h.p_error.min_element() >= 0.0);
+        }
+    }
+
+    /// A line that touches the sphere (at distance r from the centre, here
+    /// exactly) meets it at the touching point: a double root, whose hit
+    /// lies on the sphere with the normal across the line.
+    #[test]
+    fn a_line_touching_the_sphere_meets_it_at_the_touching_point() {
+        let s = Sphere::new(DVec3::ZERO, 1.0, 0);
+        for side in [DVec3::X, -DVec3::X, DVec3::Y, -DVec3::Y] {
+            let r = Ray::new(side + DVec3::new(0.0, 0.0, 5.0), -DVec3::Z);
+            assert_eq!(s.roots(&r), Some((5.0, 5.0)), "{side:?}");
+            let h = s.intersect(&r, 0.0, 9.0).unwrap();
+            assert_eq!(h.point, side);
+            assert_eq!(h.normal, side);
+        }
+    }
+
+    /// From a point on the sphere the line's crossings are that point
+    /// (t = 0) and the far end of the chord, 2·|(c − o)·d| away for a unit
+    /// d, on the sphere: the far root must not be lost in cancellation
+    /// (b and √Δ are equal there; only their sum keeps the chord).
+    #[test]
+    fn a_chord_from_a_point_on_the_sphere_reaches_its_far_end() {
+        let s = Sphere::new(DVec3::ZERO, 1.0, 0);
+        let mut checked = 0;
+        for o in [DVec3::X, DVec3::Y, DVec3::Z, -DVec3::Z] {
+            for r in testing::rays_towards(DVec3::new(0.1, -0.2, 0.05), 0.5, 50, 17) {
+                let ray = Ray::new(o, r.dir);
+                let chord = 2.0 * (s.centre - o).dot(ray.dir);
+                if chord <= 1e-3 {
+                    continue;
+                }
+                let (t0, t1) = s.roots(&ray).unwrap();
+                assert!(t0.abs() < 1e-12, "{t0} from {o:?} along {:?}", ray.dir);
+                assert!((t1 - chord).abs() < 1e-12, "{t1} vs {chord}");
+                let far = s.intersect(&ray, 1e-9, f64::INFINITY).unwrap();
+                assert!(((far.point - s.centre).length() - 1.0).abs() < 1e-12);
+                checked += 1;
+            }
+        }
+        assert!(checked > 50, "{checked}");
+    }
 }
