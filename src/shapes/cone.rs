@@ -894,4 +894,84 @@ mod tests {
             assert!(sides > 100, "{sides}");
         }
     }
+
+    /// Hits near a cone's apex, exactly checked: a small cone (radius 2⁻¹⁰,
+    /// height 2⁻⁹) and a wide one (radius 2¹⁰, height 2¹¹, its apex 2¹⁰
+    /// from the origin), both of slope −1/2 with the apex on the y axis, so
+    /// the side at height y is |apex − y|/2 from the axis, exact in f64.
+    /// A ray along x from the axis at height y meets it there, at
+    /// x = ±|apex − y|/2: just below the apex (the radius the small
+    /// difference of r0 and slope·(y − y0), each rounded) and just past it
+    /// (within the rim's slack, on the surface extended through the apex,
+    /// where the point is kept and only bounded). Every hit's error box
+    /// must hold that exact crossing: the point on the ray's own side of
+    /// the axis, its bound covering the radius's rounding.
+    #[test]
+    fn error_boxes_near_the_apex_hold_the_exact_crossing() {
+        for scale in [2f64.powi(-10), 2f64.powi(10)] {
+            let c = Cone::new(DVec3::ZERO, scale, 0.0, 2.0 * scale, 1, None);
+            let apex = scale;
+            let mut checked = 0;
+            for k in 1..=12 {
+                let k = k as f64;
+                // Below the apex by up to 1e−6 of the height, past it by
+                // up to 6e−10 (the slack is 1e−9).
+                // Each with its last bit set, so that y − y0 (about twice
+                // as large, its ulp twice y's) rounds.
+                let below = f64::from_bits((apex - k * 1.7e-7 * scale).to_bits() | 1);
+                let past = f64::from_bits((apex + k * 1e-10 * scale).to_bits() | 1);
+                for y in [below, past] {
+                    for dir in [DVec3::X, -DVec3::X] {
+                        let ray = Ray::new(DVec3::new(0.0, y, 0.0), dir);
+                        let mut xs = Vec::new();
+                        c.crossings(&ray, &mut xs);
+                        assert_eq!(xs.len(), 2, "at {y} on {c:?}");
+                        for h in &xs {
+                            let side = (h.t * dir.x).signum();
+                            let exact = DVec3::new(side * (apex - y).abs() / 2.0, y, 0.0);
+                            let e = h.p_error;
+                            assert!(e.min_element() >= 0.0, "{e:?}");
+                            assert!(
+                                (h.point - exact).abs().cmple(e).all(),
+                                "{:?} ± {e:?} misses {exact:?} (scale {scale})",
+                                h.point
+                            );
+                            checked += 1;
+                        }
+                    }
+                }
+            }
+            assert_eq!(checked, 12 * 2 * 2 * 2);
+        }
+    }
+
+    /// A ray passing close by the apex has a double root there, its t off
+    /// by up to √ε of the size, and its point may land exactly at the
+    /// apex's height (radius 0) yet off the axis. The only point of the
+    /// surface at that height is the apex: the point is put there, and its
+    /// box holds it (the point as it was, kept with a rounding-sized box,
+    /// would be 1e−6 of the size or more from the surface).
+    #[test]
+    fn a_point_at_the_apexs_height_off_the_axis_goes_to_the_apex() {
+        for (centre, r0, h) in [
+            (DVec3::new(0.0, 1.0, 0.0), 1.0, 2.0),
+            (DVec3::new(3e3, -2e3, 1e3), 1e3, 3e3),
+        ] {
+            let c = Cone::new(centre, r0, 0.0, h, 1, Some([2, 3]));
+            let apex = centre + DVec3::new(0.0, h / 2.0, 0.0);
+            for off in [DVec3::new(1e-6, 0.0, 0.0), DVec3::new(-2e-6, 0.0, 3e-6)] {
+                let off = off * r0;
+                let ray = Ray::new(apex + off + DVec3::new(0.0, h, 0.0), -DVec3::Y);
+                let p = ray.at(h);
+                assert_eq!(p.y, apex.y);
+                assert_ne!((p.x, p.z), (apex.x, apex.z));
+                let (point, e) = c.frustum.reproject(&ray, h, Surface::Side);
+                assert!(e.min_element() >= 0.0, "{e:?}");
+                assert!(
+                    (point - apex).abs().cmple(e).all(),
+                    "{point:?} ± {e:?} misses the apex {apex:?}"
+                );
+            }
+        }
+    }
 }
