@@ -298,11 +298,6 @@ fn check_cover(tiles: &[Named], w: u32, h: u32) -> Result<(), Failure> {
     ))
 }
 
-/// The value a full render's 8-bit encoder gives a linear value.
-fn encode8(c: f32, transfer: crate::scene::Transfer) -> u8 {
-    transfer.encode8(c as f64)
-}
-
 type Merged = (Pixels, (u32, u32), Option<Stamp>);
 
 fn assemble(tiles: &[Named], format: Format) -> Result<Merged, Failure> {
@@ -353,7 +348,7 @@ fn assemble(tiles: &[Named], format: Format) -> Result<Merged, Failure> {
                 }
                 Pixels::Float(img) => {
                     for (x, y, p) in img.enumerate_pixels() {
-                        let q = p.0.map(|c| encode8(c, first.transfer));
+                        let q = p.0.map(|c| first.transfer.encode8(c as f64));
                         out.put_pixel(r.x + x, r.y + y, image::Rgb(q));
                     }
                 }
@@ -423,7 +418,7 @@ fn average(tiles: &[Named], format: Format) -> Result<Merged, Failure> {
             let raw = img
                 .as_raw()
                 .iter()
-                .map(|&c| encode8(c, s.transfer))
+                .map(|&c| s.transfer.encode8(c as f64))
                 .collect();
             Pixels::Rgb8(image::RgbImage::from_raw(size.0, size.1, raw).expect("sized"))
         }
