@@ -21,6 +21,7 @@ mod params;
 mod patterns;
 mod settings;
 mod textures;
+mod transforms;
 
 use super::{
     Camera, Colour, Light, Material, Projection, RenderSettings, Scene, Texture, Transfer,
