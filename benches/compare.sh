@@ -5,7 +5,7 @@
 #   benches/compare.sh                 # every benchmark scene + Embree, 1000x1000, 3 runs each
 #   RUNS=1 SIZE=300 benches/compare.sh # a quick look
 #   SCENES="torus torus_native sextic" EMBREE=none benches/compare.sh
-#   SCENES="glass soft dof aa many" benches/compare.sh   # the round-2 scenes
+#   SCENES="glass glass_full soft dof aa many" benches/compare.sh   # the round-2 scenes
 #
 # For each scene it renders POV-Ray's version (../shared/peers/povray/run.sh,
 # which installs POV-Ray when run as root) and ours (benches/scenes/NAME.rt,
@@ -22,7 +22,7 @@
 #
 # Knobs: PEER [../shared/peers/povray], RUNS [3], SIZE [1000], THREADS [2],
 # REUSE_POV [0; 1 reads POV-Ray's last results instead of running it again],
-# SCENES [all eleven], EMBREE [path to bunny_embree; built when missing; `none`
+# SCENES [all twelve], EMBREE [path to bunny_embree; built when missing; `none`
 # skips Embree], EMBREE_DIR [/tmp/embree-peer], PLY [../shared/data/bunny.ply]
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -30,7 +30,7 @@ PEER="${PEER:-$ROOT/../shared/peers/povray}"
 RUNS="${RUNS:-3}"
 SIZE="${SIZE:-1000}"
 THREADS="${THREADS:-2}"
-SCENES="${SCENES:-bunny bunny_flat torus torus_native sextic csg glass soft dof aa many}"
+SCENES="${SCENES:-bunny bunny_flat torus torus_native sextic csg glass glass_full soft dof aa many}"
 EMBREE_DIR="${EMBREE_DIR:-/tmp/embree-peer}"
 EMBREE="${EMBREE:-$EMBREE_DIR/bunny_embree}"
 PLY="${PLY:-$ROOT/../shared/data/bunny.ply}"

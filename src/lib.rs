@@ -431,13 +431,14 @@ fn print_stats(
     eprintln!("render     {:>10.3} s", stats.seconds);
     eprintln!("total      {:>10.3} s", total.as_secs_f64());
     eprintln!(
-        "rays       {:>10}  (primary {}, reflected {}, refracted {}, shadow {}: {} settled by shaft culling)",
+        "rays       {:>10}  (primary {}, reflected {}, refracted {}, shadow {}: {} settled by shaft culling; {} not cast, below the bailout)",
         r.total(),
         r.primary,
         r.reflected,
         r.refracted,
         r.shadow,
-        r.settled
+        r.settled,
+        r.bailed
     );
     // Camera samples per pixel: N² everywhere, more where adaptive
     // sampling refined a pixel.

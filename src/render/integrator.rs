@@ -36,12 +36,17 @@ pub struct Integrator<'a> {
     has_glass: bool,
     /// The camera's view of the sky when nothing is hit.
     background: Colour,
+    /// `render { bailout }`: rays whose weight falls below it are not cast.
+    bailout: f64,
 }
 
-/// What one path carries: its random numbers and its ray counts.
+/// What one path carries: its random numbers, its ray counts, and its
+/// weight: the share of the pixel its current ray carries (1 for a camera
+/// ray; times the reflectivity or transmission at each bounce).
 pub struct Path<'s> {
     pub stream: SampleStream,
     pub counts: &'s mut RayCounts,
+    pub weight: f64,
 }
 
 impl<'a> Integrator<'a> {
@@ -51,7 +56,33 @@ impl<'a> Integrator<'a> {
             world,
             has_glass: scene.materials.iter().any(|m| m.refract.is_some()),
             background: scene.settings.background,
+            bailout: scene.settings.bailout,
         }
+    }
+
+    /// Runs `cast` (which casts one secondary ray) with the path's weight
+    /// multiplied by `share`, the part of this point's colour that ray
+    /// brings; `None`, casting nothing, when that weight is below the
+    /// bailout. POV-Ray's `adc_bailout`: a ray too faint to change the
+    /// pixel much contributes black. The weight is a number, the largest
+    /// channel's share, so a ray is kept while any channel still counts.
+    /// With bailout 0 every ray is cast (a weight is never negative).
+    fn weighted<T>(
+        &self,
+        path: &mut Path,
+        share: f64,
+        cast: impl FnOnce(&mut Path) -> T,
+    ) -> Option<T> {
+        let before = path.weight;
+        let weight = before * share;
+        if weight < self.bailout {
+            path.counts.bailed += 1;
+            return None;
+        }
+        path.weight = weight;
+        let out = cast(path);
+        path.weight = before;
+        Some(out)
     }
 
     /// THE place a secondary ray leaves a surface: the hit point moved off
@@ -148,11 +179,14 @@ impl<'a> Integrator<'a> {
             out += emissive::emitted(m, at.front);
         }
         if m.mirror != Colour::ZERO && deeper {
-            let dir = match m.glossy {
-                Some(e) => glossy::direction(at.d, at.n, e, path.stream.next2()),
-                None => at.mirror_dir(),
-            };
-            out += m.mirror * self.trace(&Self::spawn(at, dir), depth + 1, path);
+            let seen = self.weighted(path, m.mirror.max_element(), |path| {
+                let dir = match m.glossy {
+                    Some(e) => glossy::direction(at.d, at.n, e, path.stream.next2()),
+                    None => at.mirror_dir(),
+                };
+                self.trace(&Self::spawn(at, dir), depth + 1, path)
+            });
+            out += m.mirror * seen.unwrap_or(Colour::ZERO);
         }
         if let Some(d) = &m.refract
             && deeper
@@ -164,7 +198,10 @@ impl<'a> Integrator<'a> {
             return out;
         }
         let reflected = if deeper {
-            self.trace(&Self::spawn(at, at.mirror_dir()), depth + 1, path)
+            self.weighted(path, r, |path| {
+                self.trace(&Self::spawn(at, at.mirror_dir()), depth + 1, path)
+            })
+            .unwrap_or(Colour::ZERO)
         } else {
             Colour::ZERO
         };
@@ -309,14 +346,22 @@ impl<'a> Integrator<'a> {
         let side = dielectric::Interface::new(d, at.front);
         let split = dielectric::split(at.d, at.n, side.eta);
         let reflect_dir = mirror::reflect(at.d, at.n);
-        path.counts.reflected += 1;
-        let (lr, sr) = self.trace_far(&Self::spawn(at, reflect_dir), depth + 1, path);
-        let mut out = split.kr * dielectric::absorb(side.filter_here, sr) * lr;
-        if let Some(t) = split.refracted {
-            // The refracted ray leaves on the far side.
-            let ray = Self::spawn(at, t);
-            path.counts.refracted += 1;
-            let (lt, st) = self.trace_far(&ray, depth + 1, path);
+        // The weights are POV-Ray's: F and 1 − F (absorption left out).
+        let reflected = self.weighted(path, split.kr, |path| {
+            path.counts.reflected += 1;
+            self.trace_far(&Self::spawn(at, reflect_dir), depth + 1, path)
+        });
+        let mut out = match reflected {
+            Some((lr, sr)) => split.kr * dielectric::absorb(side.filter_here, sr) * lr,
+            None => Colour::ZERO,
+        };
+        if let Some(t) = split.refracted
+            && let Some((lt, st)) = self.weighted(path, 1.0 - split.kr, |path| {
+                // The refracted ray leaves on the far side.
+                path.counts.refracted += 1;
+                self.trace_far(&Self::spawn(at, t), depth + 1, path)
+            })
+        {
             let kt = (1.0 - split.kr) / (side.eta * side.eta);
             out += kt * dielectric::absorb(side.filter_there, st) * lt;
         }

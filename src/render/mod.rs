@@ -202,6 +202,7 @@ impl PixelRenderer<'_> {
             let mut path = Path {
                 stream: SampleStream::new(key, s as u32),
                 counts,
+                weight: 1.0,
             };
             let c = self.integrator.trace(&ray, 0, &mut path);
             scratch.colours.push(c);

@@ -10,6 +10,9 @@ pub struct RayCounts {
     /// Shadow rays that shaft culling found clear without casting them
     /// (counted in `shadow` too: the same question, answered).
     pub settled: u64,
+    /// Reflected and refracted rays not cast because their share of the
+    /// pixel fell below `render { bailout }` (not counted elsewhere).
+    pub bailed: u64,
     /// Pixels that adaptive sampling rendered again with more samples.
     pub refined: u64,
 }
@@ -21,6 +24,7 @@ impl RayCounts {
         self.refracted += o.refracted;
         self.shadow += o.shadow;
         self.settled += o.settled;
+        self.bailed += o.bailed;
         self.refined += o.refined;
     }
 

@@ -29,6 +29,10 @@ pub struct RenderSettings {
     pub height: u32,
     /// Reflection bounces allowed after the primary hit.
     pub max_depth: u32,
+    /// A reflected or refracted ray whose share of the pixel (the product
+    /// of the reflectivities and transmissions along its path) is below
+    /// this is not traced: POV-Ray's `adc_bailout`. 0 traces every ray.
+    pub bailout: f64,
     pub background: Colour,
     pub transfer: Transfer,
     /// Antialiasing: each pixel averages `samples × samples` rays on a
@@ -97,6 +101,7 @@ impl Default for RenderSettings {
             width: 800,
             height: 600,
             max_depth: 5,
+            bailout: 0.0,
             background: Colour::ZERO,
             transfer: Transfer::Srgb,
             samples: 1,

@@ -130,6 +130,39 @@ fn a_floor_sunk_in_glass_is_seen_through_fresnel_and_one_over_eta_squared() {
     }
 }
 
+/// A dielectric's two rays weigh POV-Ray's way under `bailout`: the
+/// reflected one F, the refracted one 1 − F. A clear slab seen at normal
+/// incidence (F = 0.04 for ior 1.5) against a white background: with
+/// bailout 0.05 only the straight path is cast, (1 − F)² of the background
+/// (η² in and 1/η² out cancel); with 0.039 the front face's reflection
+/// (weight 0.04, seeing the background behind the camera) comes back, F
+/// more, while the first reflection inside (0.96 · 0.04 = 0.0384) is
+/// still cut.
+#[test]
+fn bailout_weighs_a_dielectric_s_rays_by_fresnel() {
+    let _watchdog = crate::watchdog::start();
+    let f = 0.04f64;
+    for (bailout, want) in [
+        (0.05, (1.0 - f) * (1.0 - f)),
+        (0.039, (1.0 - f) * (1.0 - f) + f),
+    ] {
+        let film = render_src(&format!(
+            "camera {{ position <0, 0, 5>  look_at <0, 0, 0>  up <0, 1, 0>  fov 10 }}
+render {{ width 1  height 1  max_depth 10  bailout {bailout}  background rgb(1, 1, 1)  gamma linear }}
+ambient rgb(1, 1, 1) intensity 0
+box {{ min <-5, -5, -0.5>  max <5, 5, 0.5>  material {{ refract {{ ior 1.5 }} }} }}"
+        ));
+        let p = film.get(0, 0);
+        for k in 0..3 {
+            assert!(
+                (p[k] as f64 - want).abs() < 1e-6,
+                "bailout {bailout}, channel {k}: {} vs {want}",
+                p[k]
+            );
+        }
+    }
+}
+
 /// The project's unit icosphere (642 vertices), by absolute path.
 fn icosphere() -> String {
     project_root()

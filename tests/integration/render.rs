@@ -213,6 +213,70 @@ plane {{ normal <0, 0, -1>  offset -1  material {{ colour rgb({}, {}, {})  refle
     }
 }
 
+/// `render { bailout B }`: the k-th reflection between two facing mirrors
+/// carries R^k of the pixel, so it is cast exactly while R^k ≥ B and the
+/// pixel is (1 − R)·c·a·(1 + R + … + R^N) with N the last such k, however
+/// deep `max_depth` allows. B = R³ exactly keeps the third reflection (the
+/// test is "below", not "at or below"); a hair more drops it.
+#[test]
+fn bailout_stops_the_reflections_whose_share_is_below_it() {
+    let _watchdog = crate::watchdog::start();
+    let (r, a, c) = (0.5f64, 0.5f64, [1.0f64, 0.5, 0.25]);
+    for (bailout, n) in [(0.0, 20), (0.1, 3), (0.125, 3), (0.126, 2), (0.6, 0)] {
+        let film = render_src(&format!(
+            "camera {{ position <0, 0, 0>  look_at <0, 0, -1>  up <0, 1, 0>  fov 60 }}
+render {{ width 5  height 5  max_depth 20  bailout {bailout}  gamma linear }}
+ambient rgb(1, 1, 1) intensity {a}
+plane {{ normal <0, 0, 1>  offset -1  material {{ colour rgb({}, {}, {})  reflect {r} }} }}
+plane {{ normal <0, 0, -1>  offset -1  material {{ colour rgb({}, {}, {})  reflect {r} }} }}",
+            c[0], c[1], c[2], c[0], c[1], c[2]
+        ));
+        let series: f64 = (0..=n).map(|k| r.powi(k)).sum();
+        for (i, p) in film.pixels.iter().enumerate() {
+            for k in 0..3 {
+                let want = (1.0 - r) * c[k] * a * series;
+                assert!(
+                    (p[k] as f64 - want).abs() < 1e-6,
+                    "bailout {bailout}, pixel {i}, channel {k}: {} vs {want} ({n} reflections)",
+                    p[k]
+                );
+            }
+        }
+    }
+}
+
+/// An additive mirror's weight is its strongest channel: with mirror
+/// colour (0.5, 0.1, 0.1) the k-th reflection is cast while 0.5^k ≥ B,
+/// though its red share is all that is left of it. Each pixel is
+/// c·a·Σ m^j (j = 0 … N) per channel.
+#[test]
+fn bailout_weighs_a_coloured_mirror_by_its_strongest_channel() {
+    let _watchdog = crate::watchdog::start();
+    let (a, c, m) = (0.5f64, [0.2f64, 0.6, 0.9], [0.5f64, 0.1, 0.1]);
+    for (bailout, n) in [(0.2, 2), (0.25, 2), (0.3, 1)] {
+        let film = render_src(&format!(
+            "camera {{ position <0, 0, 0>  look_at <0, 0, -1>  up <0, 1, 0>  fov 60 }}
+render {{ width 3  height 3  max_depth 20  bailout {bailout}  gamma linear }}
+ambient rgb(1, 1, 1) intensity {a}
+material wall {{ colour rgb({}, {}, {})  mirror 1  mirror_colour rgb({}, {}, {}) }}
+plane {{ normal <0, 0, 1>  offset -1  material wall }}
+plane {{ normal <0, 0, -1>  offset -1  material wall }}",
+            c[0], c[1], c[2], m[0], m[1], m[2]
+        ));
+        for (i, p) in film.pixels.iter().enumerate() {
+            for k in 0..3 {
+                let series: f64 = (0..=n).map(|j| m[k].powi(j)).sum();
+                let want = c[k] * a * series;
+                assert!(
+                    (p[k] as f64 - want).abs() < 1e-6,
+                    "bailout {bailout}, pixel {i}, channel {k}: {} vs {want} ({n} reflections)",
+                    p[k]
+                );
+            }
+        }
+    }
+}
+
 /// The two torus benchmarks, the implicit quartic (turned and lifted) and
 /// the torus shape, are one picture: two routes to one surface, through
 /// the equation compiler and the shape's own chord tests.

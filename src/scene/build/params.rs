@@ -136,6 +136,11 @@ pub const RENDER: Schema = Schema {
         spec("width", 1, "a number of pixels"),
         spec("height", 1, "a number of pixels"),
         spec("max_depth", 1, "a whole number"),
+        spec(
+            "bailout",
+            1,
+            "the smallest share of the pixel a ray is traced for, 0 to below 1",
+        ),
         spec("background", 1, "a colour"),
         spec("samples", 1, "a whole number of samples per pixel side"),
         spec("gamma", 1, "`srgb`, `linear` or a number"),

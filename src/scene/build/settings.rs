@@ -162,6 +162,15 @@ impl Builder<'_> {
         {
             self.scene.settings.max_depth = d;
         }
+        if let Some(q) = p.take("bailout")
+            && let Some(b) = self.checked(
+                &q.values[0],
+                |b| (0.0..1.0).contains(&b),
+                "from 0 up to (not including) 1",
+            )
+        {
+            self.scene.settings.bailout = b;
+        }
         if let Some(q) = p.take("background")
             && let Some((c, _)) = self.colour(&q.values[0])
         {
