@@ -208,6 +208,44 @@ fn nothing_on_a_zero_polynomial() {
     assert!(all_roots(&[1.0, 0.0, 0.0, 0.0, 0.0], -1.0, 1.0, 1e-12).is_empty());
 }
 
+/// Zero leading coefficients are trimmed first: a line written with a zero
+/// t² term is a line (one root, not the quadratic formula's "double root"
+/// of a = 0), and a quadratic or cubic padded with zeros keeps its roots.
+#[test]
+fn zero_leading_coefficients_are_not_a_higher_degree() {
+    let _watchdog = crate::watchdog::start();
+    assert_eq!(all_roots(&[-0.5, 1.0, 0.0], -1.0, 1.0, 1e-14), vec![0.5]);
+    let mut c = from_roots(&[-0.3, 0.7], 0.0, 0);
+    c.extend([0.0; 3]);
+    check(&[-0.3, 0.7], &all_roots(&c, -1.0, 1.0, 1e-14), 1e-12);
+    let mut c = from_roots(&[-0.9, 0.1, 0.2], 0.0, 0);
+    c.extend([0.0; 10]);
+    check(&[-0.9, 0.1, 0.2], &all_roots(&c, -1.0, 1.0, 1e-14), 1e-10);
+}
+
+/// An empty window (lo > hi) or one with a NaN end holds no root, at every
+/// degree, though [−1, 1] holds them all; a line's root beyond either end
+/// of the window is not reported.
+#[test]
+fn empty_or_nan_windows_hold_no_root() {
+    let _watchdog = crate::watchdog::start();
+    let polys = [
+        vec![-0.25, 1.0],
+        from_roots(&[0.25, 0.5], 0.0, 0),
+        from_roots(&[-0.5, 0.25, 0.75], 0.0, 0),
+        from_roots(&[-0.5, -0.1, 0.25, 0.75, 0.9], 0.0, 0),
+    ];
+    for c in &polys {
+        assert!(!all_roots(c, -1.0, 1.0, 1e-12).is_empty(), "{c:?}");
+        assert!(all_roots(c, 1.0, -1.0, 1e-12).is_empty(), "{c:?}: lo > hi");
+        assert!(all_roots(c, 0.8, 0.2, 1e-12).is_empty(), "{c:?}: lo > hi");
+        assert!(all_roots(c, f64::NAN, 1.0, 1e-12).is_empty(), "{c:?}: lo NaN");
+        assert!(all_roots(c, -1.0, f64::NAN, 1e-12).is_empty(), "{c:?}: hi NaN");
+    }
+    assert!(all_roots(&[-5.0, 1.0], 0.0, 1.0, 1e-12).is_empty());
+    assert!(all_roots(&[5.0, 1.0], 0.0, 1.0, 1e-12).is_empty());
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(300))]
 
