@@ -198,6 +198,17 @@ impl<'p> Expander<'p> {
         self.step_checked(span, errors)
     }
 
+    /// [`Expander::step`] for an item, whose span (which a loop's items
+    /// work out from their first and last) is only wanted for a message.
+    fn step_item(&self, item: &Item, errors: &mut Vec<Error>) -> bool {
+        let n = self.steps.get();
+        if !self.stopped.get() && !n.is_multiple_of(4096) && n < self.options.limits.steps {
+            self.steps.set(n + 1);
+            return true;
+        }
+        self.step(item.span(), errors)
+    }
+
     /// [`Expander::step`] when the cancel flag is due a look or the budget
     /// may be spent.
     #[cold]
@@ -341,7 +352,7 @@ impl<'p> Expander<'p> {
             }
             let item = &items[i];
             i += 1;
-            if !self.step(item.span(), errors) {
+            if !self.step_item(item, errors) {
                 return;
             }
             match item {
