@@ -49,6 +49,9 @@ pub struct Options {
 /// the sink: small enough that a part's items stay in the cache and few
 /// exist at once, large enough that a part is not one tiny item.
 const PART_STEPS: u64 = 4096;
+/// Items after which a top-level loop hands over what it made, whatever
+/// the steps.
+const PART_ITEMS: usize = 256;
 
 /// The evaluated program.
 pub struct Evaluated {
@@ -167,9 +170,12 @@ pub fn evaluate_in_parts_bound(
             let mut emit = |it: Item| {
                 pending.push(it);
                 let steps = ex.steps.get();
-                if pending.len() >= 256 || steps - flushed_at >= PART_STEPS {
+                if pending.len() >= PART_ITEMS || steps - flushed_at >= PART_STEPS {
                     flushed_at = steps;
-                    sink(std::mem::take(&mut pending), &ex.known.borrow());
+                    // The next part starts at full size rather than
+                    // growing (and copying) from nothing.
+                    let part = std::mem::replace(&mut pending, Vec::with_capacity(PART_ITEMS));
+                    sink(part, &ex.known.borrow());
                 }
             };
             if ex.step(items[start].span(), &mut errors) {

@@ -161,6 +161,12 @@ pub trait Names {
     fn step(&self, _span: Span, _errors: &mut Vec<Error>) -> bool {
         true
     }
+    /// True when this evaluation is a trial that must not pass a point
+    /// where it could skip part of the expression (`and`, `or`): the trial
+    /// is then marked given up and its result is not used.
+    fn give_up(&self) -> bool {
+        false
+    }
 }
 
 /// The constants defined so far, and the curve that decodes `#rrggbb` and
@@ -241,7 +247,10 @@ impl Env {
 
 /// Evaluates `e` with the names of `names`, reporting mistakes into
 /// `errors`; `None` when it failed (already reported).
-pub fn eval(names: &dyn Names, e: &Expr, errors: &mut Vec<Error>) -> Option<Value> {
+///
+/// Generic over the names, so that the evaluator's step count and lookups
+/// are inlined into the walk (it is most of a loop's evaluation).
+pub fn eval<N: Names + ?Sized>(names: &N, e: &Expr, errors: &mut Vec<Error>) -> Option<Value> {
     if !names.step(e.span, errors) {
         return None;
     }
@@ -329,6 +338,9 @@ pub fn eval(names: &dyn Names, e: &Expr, errors: &mut Vec<Error>) -> Option<Valu
             lhs,
             rhs,
         } => {
+            if names.give_up() {
+                return None;
+            }
             // Short-circuit: `i > 0 and xs[i - 1] == 2` is safe.
             let a = condition(names, lhs, errors)?;
             if (*op == BinOp::And && !a) || (*op == BinOp::Or && a) {
@@ -337,16 +349,16 @@ pub fn eval(names: &dyn Names, e: &Expr, errors: &mut Vec<Error>) -> Option<Valu
             return condition(names, rhs, errors).map(Value::Bool);
         }
         ExprKind::Binary { op, lhs, rhs } => {
-            let a = eval(names, lhs, errors);
-            let b = eval(names, rhs, errors);
             // Arithmetic on two numbers is most of a scene's expressions:
             // straight to the number (as `binary` would give it).
-            if let (Some(Value::Number(x)), Some(Value::Number(y))) = (&a, &b)
-                && let Some(v) = arithmetic(*op, *x, *y)
-            {
-                return finite(Value::Number(v), e, errors);
-            }
-            return binary(*op, a?, b?, e, errors);
+            return match (eval(names, lhs, errors), eval(names, rhs, errors)) {
+                (Some(Value::Number(x)), Some(Value::Number(y))) => match arithmetic(*op, x, y) {
+                    Some(v) if v.is_finite() => Some(Value::Number(v)),
+                    Some(v) => finite(Value::Number(v), e, errors),
+                    None => binary(*op, Value::Number(x), Value::Number(y), e, errors),
+                },
+                (a, b) => binary(*op, a?, b?, e, errors),
+            };
         }
         ExprKind::Call { name, args, named } => {
             if let Some(v) = names.call(e, errors) {
@@ -414,7 +426,7 @@ pub fn eval(names: &dyn Names, e: &Expr, errors: &mut Vec<Error>) -> Option<Valu
 }
 
 /// Evaluates a condition: it must give true or false.
-pub fn condition(names: &dyn Names, e: &Expr, errors: &mut Vec<Error>) -> Option<bool> {
+pub fn condition<N: Names + ?Sized>(names: &N, e: &Expr, errors: &mut Vec<Error>) -> Option<bool> {
     match eval(names, e, errors)? {
         Value::Bool(b) => Some(b),
         other => {
@@ -431,7 +443,12 @@ pub fn condition(names: &dyn Names, e: &Expr, errors: &mut Vec<Error>) -> Option
     }
 }
 
-fn name(names: &dyn Names, n: &str, span: Span, errors: &mut Vec<Error>) -> Option<Value> {
+fn name<N: Names + ?Sized>(
+    names: &N,
+    n: &str,
+    span: Span,
+    errors: &mut Vec<Error>,
+) -> Option<Value> {
     if let Some(v) = names.lookup(n) {
         return v;
     }
@@ -500,6 +517,7 @@ fn index(base: Value, i: Value, be: &Expr, ie: &Expr, errors: &mut Vec<Error>) -
     })
 }
 
+#[inline]
 fn finite(v: Value, e: &Expr, errors: &mut Vec<Error>) -> Option<Value> {
     let ok = match &v {
         Value::Number(x) => x.is_finite(),
@@ -522,6 +540,7 @@ fn finite(v: Value, e: &Expr, errors: &mut Vec<Error>) -> Option<Value> {
 /// `x op y` for the operators that give a number and cannot fail here
 /// (`/` and `%` only by a divisor that is not 0); `None` for the rest,
 /// which [`binary`] handles and reports.
+#[inline(always)]
 fn arithmetic(op: BinOp, x: f64, y: f64) -> Option<f64> {
     Some(match op {
         BinOp::Add => x + y,
@@ -529,9 +548,25 @@ fn arithmetic(op: BinOp, x: f64, y: f64) -> Option<f64> {
         BinOp::Mul => x * y,
         BinOp::Div if y != 0.0 => x / y,
         BinOp::Pow => x.powf(y),
-        BinOp::Rem if y != 0.0 => x.rem_euclid(y),
+        BinOp::Rem if y != 0.0 => rem_euclid(x, y),
         _ => return None,
     })
+}
+
+/// `x.rem_euclid(y)`, bit for bit, for `y` not 0: whole numbers (a loop's
+/// `i % 10`) in integers, as `%` on floats is a slow software `fmod`.
+#[inline]
+fn rem_euclid(x: f64, y: f64) -> f64 {
+    const EXACT: f64 = (1u64 << 53) as f64;
+    if x.fract() == 0.0 && y.fract() == 0.0 && x.abs() < EXACT && y.abs() < EXACT {
+        // `fmod`'s remainder has the sign of `x`, a zero one included.
+        let r = match (x as i64) % (y as i64) {
+            0 => 0.0f64.copysign(x),
+            r => r as f64,
+        };
+        return if r < 0.0 { r + y.abs() } else { r };
+    }
+    x.rem_euclid(y)
 }
 
 fn binary(op: BinOp, a: Value, b: Value, e: &Expr, errors: &mut Vec<Error>) -> Option<Value> {

@@ -118,11 +118,19 @@ impl Expander<'_> {
         };
         // One copy of the name for every iteration's scope and trace.
         let name: Arc<str> = Arc::from(var.node.as_str());
+        let mut inner = scope.child();
         for v in values {
             if self.stopped.get() {
                 return;
             }
-            let inner = scope.child();
+            // The last iteration's scope is emptied and used again when
+            // nothing kept it (a `fn` declared in the body keeps it): the
+            // same as a new one, without two allocations an iteration.
+            if Rc::strong_count(&inner) == 1 && Rc::weak_count(&inner) == 0 {
+                inner.vars.borrow_mut().clear();
+            } else {
+                inner = scope.child();
+            }
             let trace = self.push(Frame::Loop {
                 var: name.clone(),
                 value: v.clone(),

@@ -61,6 +61,16 @@ struct Expander<'p> {
 struct At<'a, 'p> {
     ex: &'a Expander<'p>,
     scope: &'a Rc<Scope>,
+    /// Set for a trial evaluation ([`Expander::closed_value`]): marked
+    /// instead of reporting an unknown name, and where the trial gives up.
+    trial: Option<&'a Cell<bool>>,
+}
+
+impl At<'_, '_> {
+    /// In a trial, marks it given up and says so.
+    fn abandon(&self) -> bool {
+        self.trial.inspect(|t| t.set(true)).is_some()
+    }
 }
 
 impl Names for At<'_, '_> {
@@ -69,10 +79,13 @@ impl Names for At<'_, '_> {
     }
 
     fn lookup(&self, name: &str) -> Option<Option<Value>> {
-        match self.scope.get(name)? {
-            Binding::Value(v) => Some(v),
-            Binding::Function(..) => None,
-        }
+        // The value alone is copied out, not the binding.
+        self.scope
+            .with(name, |b| match b {
+                Binding::Value(v) => Some(v.clone()),
+                Binding::Function(..) => None,
+            })
+            .flatten()
     }
 
     fn binds(&self, name: &str) -> bool {
@@ -82,9 +95,19 @@ impl Names for At<'_, '_> {
     }
 
     fn call(&self, call: &Expr, errors: &mut Vec<Error>) -> Option<Option<Value>> {
-        let ExprKind::Call { name, .. } = &call.kind else {
+        let ExprKind::Call { name, named, .. } = &call.kind else {
             return None;
         };
+        // A trial stops before a user function (whose arguments are read
+        // there) and before a call with named arguments (a built-in reads
+        // none of them): whether such a call is closed is for `is_closed`.
+        if self.trial.is_some() {
+            if !named.is_empty() || self.scope.with(&name.node, |_| ()).is_some() {
+                self.abandon();
+                return Some(None);
+            }
+            return None;
+        }
         match self.scope.get(&name.node) {
             Some(Binding::Function(def, home)) => {
                 Some(self.ex.call_value(&def, &home, call, self.scope, errors))
@@ -105,6 +128,10 @@ impl Names for At<'_, '_> {
     }
 
     fn unknown(&self, n: &str, span: Span, errors: &mut Vec<Error>) {
+        if self.abandon() {
+            // Not closed: the name is left for the builder.
+            return;
+        }
         let mut err = Error::new(span, format!("unknown name `{n}`")).label("not defined");
         let later = self.ex.program.items.iter().find_map(|i| match i {
             Item::Let { name, .. } | Item::LetItems { name, .. } if name.node == n => {
@@ -134,6 +161,10 @@ impl Names for At<'_, '_> {
         self.ex.step(span, errors)
     }
 
+    fn give_up(&self) -> bool {
+        self.abandon()
+    }
+
     fn functions(&self) -> Vec<String> {
         self.scope
             .names()
@@ -145,7 +176,11 @@ impl Names for At<'_, '_> {
 
 impl<'p> Expander<'p> {
     fn at<'a>(&'a self, scope: &'a Rc<Scope>) -> At<'a, 'p> {
-        At { ex: self, scope }
+        At {
+            ex: self,
+            scope,
+            trial: None,
+        }
     }
 
     fn step(&self, span: Span, errors: &mut Vec<Error>) -> bool {
@@ -161,6 +196,17 @@ impl<'p> Expander<'p> {
             return true;
         }
         self.step_checked(span, errors)
+    }
+
+    /// [`Expander::step`] for an item, whose span (which a loop's items
+    /// work out from their first and last) is only wanted for a message.
+    fn step_item(&self, item: &Item, errors: &mut Vec<Error>) -> bool {
+        let n = self.steps.get();
+        if !self.stopped.get() && !n.is_multiple_of(4096) && n < self.options.limits.steps {
+            self.steps.set(n + 1);
+            return true;
+        }
+        self.step(item.span(), errors)
     }
 
     /// [`Expander::step`] when the cancel flag is due a look or the budget
@@ -306,7 +352,7 @@ impl<'p> Expander<'p> {
             }
             let item = &items[i];
             i += 1;
-            if !self.step(item.span(), errors) {
+            if !self.step_item(item, errors) {
                 return;
             }
             match item {
@@ -646,6 +692,46 @@ impl<'p> Expander<'p> {
         v
     }
 
+    /// `e` worked out, as [`Expander::value`] would, when it is closed
+    /// ([`expr::is_closed`]) — found by evaluating it, not by a walk first
+    /// (a loop's `centre <…>` and `rgb(…)`, each of 100,000 spheres, were
+    /// walked twice). `None`, with the steps, errors and stop it caused
+    /// undone, when it names something unbound, reaches a part a trial
+    /// cannot judge (a user function, named arguments, `and`/`or`) or
+    /// stops at a limit; then
+    /// the caller asks `is_closed`. A closed expression's evaluation sees
+    /// every name `is_closed` looks at, so the two agree.
+    fn closed_value(
+        &self,
+        e: &Expr,
+        scope: &Rc<Scope>,
+        errors: &mut Vec<Error>,
+    ) -> Option<ExprKind> {
+        let open = Cell::new(false);
+        let at = At {
+            ex: self,
+            scope,
+            trial: Some(&open),
+        };
+        let (steps, stopped, before) = (self.steps.get(), self.stopped.get(), errors.len());
+        let v = expr::eval(&at, e, errors);
+        // A trial that ran out of steps (or was cancelled) did not see all
+        // of `e`: it is undone too, and the limit met again as before.
+        if open.get() || (self.stopped.get() && !stopped) {
+            self.steps.set(steps);
+            self.stopped.set(stopped);
+            errors.truncate(before);
+            return None;
+        }
+        for err in &mut errors[before..] {
+            *err = self.traced(err.clone());
+        }
+        Some(match v {
+            Some(v) => ExprKind::Value(v),
+            None => ExprKind::Bound("".into(), None),
+        })
+    }
+
     /// An expression among items: worked out when everything it names is
     /// known here, otherwise its bound names are filled in and the rest is
     /// left to the builder (which knows its keywords and materials).
@@ -657,6 +743,9 @@ impl<'p> Expander<'p> {
             e.kind,
             ExprKind::Number(_) | ExprKind::Hex(_) | ExprKind::Name(_)
         );
+        if !simple && let Some(kind) = self.closed_value(e, scope, errors) {
+            return Expr { kind, span: e.span };
+        }
         if !simple && expr::is_closed(&at, e) {
             let v = self.value(e, scope, errors);
             return Expr {

@@ -59,10 +59,12 @@ impl<T> Spanned<T> {
 /// One element of a file or a block.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Item {
-    /// `let NAME = expr`
+    /// `let NAME = expr`; the expression boxed, as `if`'s condition, so
+    /// that an item is 128 bytes rather than 200: an evaluated loop makes
+    /// and moves hundreds of thousands of items, and none is a `let`.
     Let {
         name: Spanned<String>,
-        value: Expr,
+        value: Box<Expr>,
         span: Span,
     },
     /// A name, number, vector, colour or any expression.
@@ -104,7 +106,7 @@ pub enum Item {
     },
     /// `if COND { … } else …`; `otherwise` is a block or another `If`.
     If {
-        cond: Expr,
+        cond: Box<Expr>,
         then: Block,
         otherwise: Option<Box<Item>>,
         span: Span,

@@ -203,7 +203,7 @@ fn item(p: Pair<Rule>, at: Loc) -> Result<Item, Error> {
             } else {
                 Item::Let {
                     name,
-                    value: expr(value, at)?,
+                    value: Box::new(expr(value, at)?),
                     span,
                 }
             }
@@ -252,7 +252,7 @@ fn item(p: Pair<Rule>, at: Loc) -> Result<Item, Error> {
                 None => None,
             };
             Item::If {
-                cond,
+                cond: Box::new(cond),
                 then,
                 otherwise,
                 span,

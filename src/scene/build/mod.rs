@@ -19,6 +19,7 @@ mod materials;
 mod objects;
 mod params;
 mod patterns;
+mod pipeline;
 mod settings;
 mod textures;
 mod transforms;
@@ -105,15 +106,7 @@ pub fn check(program: &Program, options: &crate::eval::Options) -> Checked {
         .accel
         .or_else(|| find_accel(&program.items))
         .unwrap_or_default();
-    // Each part is built as soon as it is evaluated, so the evaluated
-    // items of a long loop never all exist at once.
-    let (eval_errors, bound) =
-        crate::eval::evaluate_in_parts_bound(program, transfer, options, |items, known| {
-            if b.env.known.len() != known.len() {
-                b.env.known = known.to_vec();
-            }
-            b.top_level(&items);
-        });
+    let (eval_errors, bound) = pipeline::evaluate_and_build(&mut b, options);
     b.errors.extend(eval_errors);
     // A mistake inside a loop body is one mistake: keep its first report.
     let mut seen = std::collections::HashSet::new();
