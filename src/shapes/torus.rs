@@ -190,15 +190,26 @@ impl Torus {
 impl Torus {
     /// `p` put back on the torus: the nearest point of the tube's centre
     /// circle is R·(x, 0, z)/|(x, z)|, and the surface lies r from it
-    /// along the line to `p`. The root finder's tolerance in t no longer
-    /// matters; the rounding of these few steps is γ₁₀ of the magnitudes.
+    /// along the line to `p`. A spindle torus (R < r) has an inner part
+    /// too, the "lemon" inside the outer "apple", whose points lie r from
+    /// the circle's point across the axis instead (and nearer than r to
+    /// the near one): the circle's point is whichever of the two is
+    /// nearer to r away. (For R ≥ r the far one is never nearer.) The
+    /// root finder's tolerance in t no longer matters; the rounding of
+    /// these few steps is γ₁₀ of the magnitudes.
     fn reproject(&self, p: DVec3) -> (DVec3, DVec3) {
         let (big, small) = (self.major.abs(), self.minor.abs());
         let rho = p.x.hypot(p.z);
-        let ring = if rho > 0.0 {
+        let near = if rho > 0.0 {
             DVec3::new(p.x, 0.0, p.z) * (big / rho)
         } else {
             DVec3::new(big, 0.0, 0.0)
+        };
+        let far = DVec3::new(-near.x, 0.0, -near.z);
+        let ring = if ((p - far).length() - small).abs() < ((p - near).length() - small).abs() {
+            far
+        } else {
+            near
         };
         let off = p - ring;
         let len = off.length();

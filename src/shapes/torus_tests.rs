@@ -298,7 +298,13 @@ fn uv_are_the_angles_around_the_axis_and_the_tube() {
 fn hit_points_are_on_the_tube_with_a_rounding_sized_error() {
     let _watchdog = crate::watchdog::start();
     let eps = f64::EPSILON;
-    for (big, small) in [(2.0, 0.5), (1e-3, 4e-4), (1e3, 1.0), (1e3, 1e-3)] {
+    for (big, small) in [
+        (2.0, 0.5),
+        (1e-3, 4e-4),
+        (1e3, 1.0),
+        (1e3, 1e-3),
+        (0.7, 1.3),
+    ] {
         let t = Torus::new(big, small, 3);
         let mag = big + small;
         let mut met = 0;
