@@ -530,3 +530,74 @@ fn rays_starting_just_before_the_surface_meet_it() {
         }
     }
 }
+
+/// The band at the window's start, two ways. `may_be_behind` takes a
+/// root at s for the surface a ray leaves when it lies no more than the
+/// band past the window's start: γ₁₆ of the magnitudes of the quartic's
+/// terms there, over the quartic's slope, plus the solver's tolerance
+/// 1e-13. The magnitudes, factored: the torus's equation along the
+/// chord with every term made positive, (|o|² + R² + r² + 2Σ|oᵢdᵢ|·a +
+/// |d|²a²)² + 4R²((|oₓ| + a|dₓ|)² + (|o_z| + a|d_z|)²) at a = |s|; the
+/// slope is the equation's gradient along d. (Chords whose o and d have
+/// one sign in each coordinate, so that 2|o·d| is the sum of the
+/// products' magnitudes; slopes large enough to be known to 1e-9.) Just
+/// inside the band a root is the surface left behind, just outside it
+/// is not; and a root well past the start (1e-6 of the chord and more)
+/// never is, even a tangent's, whose slope is 0.
+#[test]
+fn the_band_at_the_windows_start_is_the_rounding_of_the_terms() {
+    let mut rnd = numbers(23);
+    let g16 = gamma(16);
+    let mut checked = 0;
+    for (big, small) in [(2.0, 0.5), (1.5, 0.4), (0.7, 1.3), (3.0, 0.05)] {
+        let t = Torus::new(big, small, 0);
+        let k = 4.0 * big * big;
+        for i in 0..120 {
+            let o = DVec3::new(rnd(), rnd(), rnd()) * [0.1, 1.0, 4.0][i % 3];
+            let mut along = |x: f64| rnd().abs() * x.signum();
+            let d = DVec3::new(along(o.x), along(o.y), along(o.z)) * [0.05, 1.0, 5.0][i / 3 % 3];
+            let c = t.quartic(o, d);
+            for s in [-1.0, -0.7, -0.2, 0.0, 0.4, 1.0, rnd()] {
+                let a = f64::abs(s);
+                let p = o + d * s;
+                let sq = p.length_squared() + big * big - small * small;
+                let grad = 4.0 * (p * sq - DVec3::new(p.x, 0.0, p.z) * (2.0 * big * big));
+                let slope = grad.dot(d);
+                let od = (o * d).abs().element_sum();
+                let terms = (o.length_squared()
+                    + big * big
+                    + small * small
+                    + 2.0 * od * a
+                    + d.length_squared() * a * a)
+                    .powi(2)
+                    + k * ((o.x.abs() + a * d.x.abs()).powi(2)
+                        + (o.z.abs() + a * d.z.abs()).powi(2));
+                if slope.abs() < 1e-5 * terms {
+                    continue;
+                }
+                let band = g16 * terms / slope.abs() + 1e-13;
+                assert!(
+                    t.may_be_behind(o, d, &c, s, band * (1.0 - 1e-6)),
+                    "R {big} r {small} o {o} d {d} s {s}: band {band}"
+                );
+                assert!(
+                    !t.may_be_behind(o, d, &c, s, band * (1.0 + 1e-6)),
+                    "R {big} r {small} o {o} d {d} s {s}: band {band}"
+                );
+                checked += 1;
+            }
+        }
+    }
+    assert!(checked > 2000, "{checked}");
+    // The line y = r, z = 0 touches the tube's top circle at x = ±R:
+    // along o = (0, r, 0), d = (R, 0, 0) the equation is 16(s² − 1)²
+    // for R = 2, r = 0.5, a double root at s = 1 with slope 0.
+    let t = Torus::new(2.0, 0.5, 0);
+    let (o, d) = (DVec3::new(0.0, 0.5, 0.0), DVec3::new(2.0, 0.0, 0.0));
+    let c = t.quartic(o, d);
+    assert_eq!(c, [16.0, 0.0, -32.0, 0.0, 16.0]);
+    for ahead in [1.01e-6, 1e-3, 0.5, 2.0] {
+        assert!(!t.may_be_behind(o, d, &c, 1.0, ahead), "{ahead}");
+    }
+    assert!(t.may_be_behind(o, d, &c, 1.0, 0.0));
+}
