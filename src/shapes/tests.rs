@@ -262,3 +262,59 @@ fn the_barycentric_points_bound_holds_the_exact_point() {
         }
     }
 }
+
+/// A shape that gives only what every shape must (`intersect`,
+/// `crossings`, `bounds`, `is_solid`): a sphere underneath. The trait's
+/// defaults answer the rest.
+#[derive(Debug)]
+struct Bare(Sphere);
+
+impl Shape for Bare {
+    fn intersect(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<Hit> {
+        self.0.intersect(ray, t_min, t_max)
+    }
+    fn crossings(&self, ray: &Ray, out: &mut Vec<Hit>) {
+        self.0.crossings(ray, out)
+    }
+    fn bounds(&self) -> Aabb {
+        self.0.bounds()
+    }
+    fn is_solid(&self) -> bool {
+        self.0.is_solid()
+    }
+}
+
+/// The trait's defaults: a shadow ray is blocked exactly when the nearest
+/// hit is in the window; a shape is never said to miss a shadow shaft it
+/// may meet (the default is "unsure"), even one it cuts through; no
+/// point is enclosed (only unbounded shapes answer that); (u, v) are the
+/// hit's own; a normal from the shape's space is the world's as it is.
+#[test]
+fn the_traits_defaults_answer_from_the_required_methods() {
+    let _watchdog = crate::watchdog::start();
+    let s = Bare(Sphere::new(DVec3::new(0.2, -0.1, 0.3), 1.0, 6));
+    let mut blocked = 0;
+    for r in testing::rays_towards(DVec3::ZERO, 1.5, 300, 8) {
+        let first = s.intersect(&r, 0.0, f64::INFINITY).map(|h| h.t);
+        let t = first.unwrap_or(10.0);
+        for (lo, hi) in [(0.0, f64::INFINITY), (0.0, 0.999 * t), (0.0, 1.001 * t)] {
+            let want = s.intersect(&r, lo, hi).is_some();
+            assert_eq!(s.occludes(&r, lo, hi), want, "({lo}, {hi}) {r:?}");
+            blocked += want as usize;
+        }
+        if let Some(h) = s.intersect(&r, 0.0, f64::INFINITY) {
+            let h = Hit {
+                uv: DVec2::new(0.25, 0.5),
+                ..h
+            };
+            assert_eq!(s.uv(&h), DVec2::new(0.25, 0.5));
+            let v = DVec3::new(0.3, -2.0, 0.7);
+            assert_eq!(s.normal_to_world(&h, v), v);
+        }
+    }
+    assert!(blocked > 200, "{blocked}");
+    let (a, b) = (DVec3::new(0.2, 3.0, 0.3), DVec3::new(0.2, -3.0, 0.3));
+    assert!(!s.misses_hull(&[a, b]));
+    assert!(!s.misses_hull(&[a, b, DVec3::new(2.0, 0.0, 0.0)]));
+    assert!(!s.encloses(DVec3::new(0.2, -0.1, 0.3)));
+}
