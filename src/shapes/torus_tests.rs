@@ -293,7 +293,9 @@ fn uv_are_the_angles_around_the_axis_and_the_tube() {
 /// size, and at least the rounding of the point's own coordinates (the
 /// last addition that makes it rounds). Fat and thin tori, tiny and
 /// huge: R = 1000, r = 0.001 is where a bound of r's size alone falls
-/// short.
+/// short, R = 4000, r = 1000 where one that multiplies the circle's
+/// point by r is far too wide; and a spindle torus (R < r), whose inner
+/// part lies r from the circle's point across the axis.
 #[test]
 fn hit_points_are_on_the_tube_with_a_rounding_sized_error() {
     let _watchdog = crate::watchdog::start();
@@ -303,6 +305,7 @@ fn hit_points_are_on_the_tube_with_a_rounding_sized_error() {
         (1e-3, 4e-4),
         (1e3, 1.0),
         (1e3, 1e-3),
+        (4e3, 1e3),
         (0.7, 1.3),
     ] {
         let t = Torus::new(big, small, 3);
