@@ -34,9 +34,9 @@ fn quadratic_is_stable_for_tiny_roots() {
 fn quadratic_gives_back_the_roots_it_was_made_from() {
     let mut rnd = numbers(5);
     for i in 0..400 {
-        let r0 = rnd() * 10f64.powi((i % 7) as i32 - 3);
-        let r1 = rnd() * 10f64.powi((i / 7 % 5) as i32 - 2);
-        let a = rnd().signum() * 10f64.powi((i % 3) as i32 * 3 - 3);
+        let r0 = rnd() * 10f64.powi((i % 7) - 3);
+        let r1 = rnd() * 10f64.powi((i / 7 % 5) - 2);
+        let a = rnd().signum() * 10f64.powi((i % 3) * 3 - 3);
         let (b, c) = (-a * (r0 + r1), a * r0 * r1);
         let (t0, t1) = solve_quadratic(a, b, c).expect("real roots");
         let (lo, hi) = (r0.min(r1), r0.max(r1));
@@ -112,9 +112,9 @@ fn the_ray_points_error_bound_holds_the_exact_error() {
     let mut rnd = numbers(9);
     let mut inexact = 0;
     for i in 0..3000 {
-        let o = DVec3::new(rnd(), rnd(), rnd()) * 10f64.powi((i % 5) as i32 * 2 - 4);
-        let d = DVec3::new(rnd(), rnd(), rnd()) * 10f64.powi((i / 5 % 5) as i32 * 2 - 4);
-        let t = rnd() * 10f64.powi((i / 25 % 3) as i32 * 2 - 2);
+        let o = DVec3::new(rnd(), rnd(), rnd()) * 10f64.powi((i % 5) * 2 - 4);
+        let d = DVec3::new(rnd(), rnd(), rnd()) * 10f64.powi((i / 5 % 5) * 2 - 4);
+        let t = rnd() * 10f64.powi((i / 25 % 3) * 2 - 2);
         let ray = Ray::new(o, d);
         let p = ray.at(t);
         let e = ray_point_error(&ray, t);
@@ -226,7 +226,7 @@ fn the_barycentric_points_bound_holds_the_exact_point() {
     };
     let mut cases: Vec<([DVec3; 3], [f64; 3])> = (0..2000)
         .map(|i| {
-            let scale = 10f64.powi((i % 5) as i32 * 2 - 4);
+            let scale = 10f64.powi((i % 5) * 2 - 4);
             let v = [(); 3].map(|_| DVec3::new(rnd(), rnd(), rnd()) * scale);
             let b = [rnd().abs(), rnd().abs(), rnd().abs()];
             let sum = b[0] + b[1] + b[2];
