@@ -540,15 +540,4 @@ pub(crate) mod testing {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn quadratic_is_stable_for_tiny_roots() {
-        // Roots 1e-9 and 1e9: the naive formula loses the small one.
-        let (a, b) = solve_quadratic(1.0, -(1e9 + 1e-9), 1.0).unwrap();
-        assert!((a - 1e-9).abs() / 1e-9 < 1e-6);
-        assert!((b - 1e9).abs() / 1e9 < 1e-12);
-        assert!(solve_quadratic(1.0, 0.0, 1.0).is_none());
-    }
-}
+mod tests;

@@ -190,15 +190,26 @@ impl Torus {
 impl Torus {
     /// `p` put back on the torus: the nearest point of the tube's centre
     /// circle is R·(x, 0, z)/|(x, z)|, and the surface lies r from it
-    /// along the line to `p`. The root finder's tolerance in t no longer
-    /// matters; the rounding of these few steps is γ₁₀ of the magnitudes.
+    /// along the line to `p`. A spindle torus (R < r) has an inner part
+    /// too, the "lemon" inside the outer "apple", whose points lie r from
+    /// the circle's point across the axis instead (and nearer than r to
+    /// the near one): the circle's point is whichever of the two is
+    /// nearer to r away. (For R ≥ r the far one is never nearer.) The
+    /// root finder's tolerance in t no longer matters; the rounding of
+    /// these few steps is γ₁₀ of the magnitudes.
     fn reproject(&self, p: DVec3) -> (DVec3, DVec3) {
         let (big, small) = (self.major.abs(), self.minor.abs());
         let rho = p.x.hypot(p.z);
-        let ring = if rho > 0.0 {
+        let near = if rho > 0.0 {
             DVec3::new(p.x, 0.0, p.z) * (big / rho)
         } else {
             DVec3::new(big, 0.0, 0.0)
+        };
+        let far = DVec3::new(-near.x, 0.0, -near.z);
+        let ring = if ((p - far).length() - small).abs() < ((p - near).length() - small).abs() {
+            far
+        } else {
+            near
         };
         let off = p - ring;
         let len = off.length();
@@ -276,145 +287,5 @@ impl Shape for Torus {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::shapes::testing;
-
-    #[test]
-    fn hits_the_ring_in_the_xz_plane() {
-        let _watchdog = crate::watchdog::start();
-        let t = Torus::new(2.0, 0.5, 0);
-        // Straight down onto the tube's top at x = 2.
-        let r = Ray::new(DVec3::new(2.0, 5.0, 0.0), -DVec3::Y);
-        let h = t.intersect(&r, 1e-9, f64::INFINITY).unwrap();
-        assert!((h.t - 4.5).abs() < 1e-9);
-        assert!((h.normal.normalize() - DVec3::Y).length() < 1e-9);
-        assert!((t.uv(&h).y - 0.25).abs() < 1e-9);
-        // Through the hole: nothing.
-        let r = Ray::new(DVec3::new(0.0, 5.0, 0.0), -DVec3::Y);
-        assert!(t.intersect(&r, 1e-9, f64::INFINITY).is_none());
-        // Along the x axis: four crossings, alternating in and out.
-        let r = Ray::new(DVec3::new(-5.0, 0.0, 0.0), DVec3::X * 2.0);
-        let mut xs = Vec::new();
-        t.crossings(&r, &mut xs);
-        let want = [1.25, 1.75, 3.25, 3.75];
-        assert_eq!(xs.len(), 4);
-        for (h, w) in xs.iter().zip(want) {
-            assert!((h.t - w).abs() < 1e-9, "{xs:?}");
-        }
-        assert!(xs[0].normal.dot(r.dir) < 0.0 && xs[1].normal.dot(r.dir) > 0.0);
-    }
-
-    /// The cylinder tests before the quartic throw away only chords that
-    /// truly miss: whenever they reject one, the torus's equation keeps
-    /// one sign along it (sampled densely, and the quartic's own roots
-    /// found without the tests agree); and they do reject the chords
-    /// through the box's corners and through the hole, or they would cost
-    /// without saving anything.
-    #[test]
-    fn the_cylinder_tests_reject_only_chords_that_miss() {
-        let _watchdog = crate::watchdog::start();
-        let (big, small) = (2.0, 0.5);
-        let t = Torus::new(big, small, 0);
-        let f = |p: DVec3| {
-            let s = p.length_squared() + big * big - small * small;
-            s * s - 4.0 * big * big * (p.x * p.x + p.z * p.z)
-        };
-        let (mut corners, mut hole, mut kept_hits) = (0, 0, 0);
-        let mut rays = testing::rays_towards(DVec3::ZERO, 2.6, 3000, 11);
-        // Grazing the outer equator and the hole's wall, just outside and
-        // just inside: level rays past the outer equator, and vertical rays
-        // down the hole at distances ρ about R − r from the axis.
-        for k in 0..400 {
-            let e = (k as f64 - 200.0) * 1e-4;
-            let rho = big + small + e;
-            rays.push(Ray::new(DVec3::new(rho, 0.0, -10.0), DVec3::Z));
-            rays.push(Ray::new(DVec3::new(-10.0, 0.3 * e, rho), DVec3::X));
-            let rho = big - small + e;
-            rays.push(Ray::new(DVec3::new(rho * 0.6, 5.0, rho * 0.8), -DVec3::Y));
-        }
-        for r in &rays {
-            let Some((_, _, o, d)) = t.chord(r, f64::NEG_INFINITY, f64::INFINITY) else {
-                continue;
-            };
-            let sampled_root = (0..=4000)
-                .map(|i| f(o + d * (i as f64 / 2000.0 - 1.0)))
-                .collect::<Vec<_>>()
-                .windows(2)
-                .any(|w| w[0] * w[1] <= 0.0);
-            let roots = crate::implicit::solve::all_roots(&t.quartic(o, d), -1.0, 1.0, 1e-13);
-            if t.chord_misses(o, d) {
-                assert!(
-                    !sampled_root && roots.is_empty(),
-                    "{r:?} rejected: {roots:?}"
-                );
-                let ends = [o - d, o + d].map(|p| p.x.hypot(p.z));
-                if ends.iter().all(|&rho| rho < big - small) {
-                    hole += 1;
-                } else {
-                    corners += 1;
-                }
-            } else if !roots.is_empty() {
-                kept_hits += 1;
-            }
-        }
-        assert!(corners > 50 && hole > 50, "corners {corners}, hole {hole}");
-        assert!(kept_hits > 500, "{kept_hits}");
-    }
-
-    /// Secondary rays leaving the torus never meet it again where they
-    /// left: many more hits than the all-shapes offset test tries, because
-    /// the quartic's rounding at the chord's start found the surface left
-    /// behind for about one shadow ray in 50,000 (dark specks on the torus
-    /// benchmark before the t lower-bound test). Outward rays straight
-    /// out, at 26° and at 3°, and towards the benchmark's light.
-    #[test]
-    fn secondary_rays_never_find_the_surface_they_leave() {
-        let _watchdog = crate::watchdog::start();
-        let t = Torus::new(2.0, 0.5, 0);
-        let light = DVec3::new(5.0, 9.5, 5.0);
-        let (mut bad, mut tried) = (0, 0);
-        for r in testing::rays_towards(DVec3::ZERO, 2.6, 25_000, 5) {
-            let Some(h) = t.intersect(&r, 0.0, f64::INFINITY) else {
-                continue;
-            };
-            let mut ng = h.geo_normal.normalize();
-            if ng.dot(r.dir) > 0.0 {
-                ng = -ng;
-            }
-            let side = ng.any_orthonormal_vector();
-            let to_light = (light - h.point).normalize();
-            let mut dirs = vec![
-                ng,
-                (ng + 2.0 * side).normalize(),
-                (0.05 * ng + side).normalize(),
-            ];
-            if to_light.dot(ng) > 0.0 {
-                dirs.push(to_light);
-            }
-            for dir in dirs {
-                tried += 1;
-                let o = crate::geometry::offset_ray_origin(h.point, h.p_error, h.geo_normal, dir);
-                let ray = Ray::new(o, dir);
-                if t.intersect(&ray, 0.0, f64::INFINITY)
-                    .is_some_and(|a| a.t < 1e-6)
-                    || t.occludes(&ray, 0.0, 1e-6)
-                {
-                    bad += 1;
-                }
-            }
-        }
-        assert!(tried > 30_000, "{tried}");
-        assert_eq!(
-            bad, 0,
-            "{bad} of {tried} secondary rays met the surface they left"
-        );
-    }
-
-    #[test]
-    fn consistent() {
-        let _watchdog = crate::watchdog::start();
-        let t = Torus::new(1.5, 0.4, 0);
-        testing::check_consistency(&t, &testing::rays_towards(DVec3::ZERO, 1.8, 2000, 3));
-    }
-}
+#[path = "torus_tests.rs"]
+mod tests;
