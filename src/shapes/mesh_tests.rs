@@ -1047,24 +1047,27 @@ fn an_open_meshs_crossings_count_shared_edges_once() {
         for (name, d) in each_index(&p, &t) {
             let mesh = Mesh::new(Arc::new(d), false, 0);
             assert!(!mesh.is_solid());
-            let eye = DVec3::new(0.3, -0.2, 5.0);
-            for &v in pos.iter().step_by(7) {
-                // (Where the line meets the lower sheet too.)
-                if v.x.abs() > 1.5 || v.y.abs() > 1.5 {
-                    continue;
-                }
-                for q in [
-                    v,
-                    v + DVec3::new(0.05, 0.0, 0.0),
-                    v + DVec3::new(0.05, 0.05, 0.0),
-                ] {
-                    let ray = Ray::new(eye, q - eye);
-                    let mut xs = Vec::new();
-                    mesh.crossings(&ray, &mut xs);
-                    assert_eq!(xs.len(), sheets, "{name}: {q} {xs:?}");
-                    assert!((xs[0].t - 1.0).abs() < 1e-12, "{name}: {}", xs[0].t);
-                    if sheets == 2 {
-                        assert!(xs[1].t > 1.05, "{name}: {}", xs[1].t);
+            // Near, and far (where the triangles around a vertex give t
+            // some ulps apart: still one point).
+            for eye in [DVec3::new(0.3, -0.2, 5.0), DVec3::new(3e3, -2e3, 1e4)] {
+                for &v in pos.iter().step_by(7) {
+                    // (Where the line meets the lower sheet too.)
+                    if v.x.abs() > 1.5 || v.y.abs() > 1.5 {
+                        continue;
+                    }
+                    for q in [
+                        v,
+                        v + DVec3::new(0.05, 0.0, 0.0),
+                        v + DVec3::new(0.05, 0.05, 0.0),
+                    ] {
+                        let ray = Ray::new(eye, q - eye);
+                        let mut xs = Vec::new();
+                        mesh.crossings(&ray, &mut xs);
+                        assert_eq!(xs.len(), sheets, "{name}: {q} {xs:?}");
+                        assert!((xs[0].t - 1.0).abs() < 1e-12, "{name}: {}", xs[0].t);
+                        if sheets == 2 {
+                            assert!(xs[1].t > 1.0 + 5e-6, "{name}: {}", xs[1].t);
+                        }
                     }
                 }
             }
@@ -1187,6 +1190,64 @@ fn files_bytes_and_arrays_make_the_same_mesh() {
                     "{name}"
                 );
             }
+        }
+    }
+}
+
+/// Two boxes in one closed mesh: a line that touches the first at a corner
+/// (the triangles there face both ways: it does not go in) and then passes
+/// through the second crosses only the second, in at x = 3 and out at
+/// x = 5, whichever way it runs, and even from far away (where the
+/// corner's triangles give t some ulps apart).
+#[test]
+fn a_touch_before_or_after_a_crossing_changes_nothing() {
+    let _watchdog = crate::watchdog::start();
+    let a = box_mesh(DVec3::splat(-1.0), DVec3::splat(2.0));
+    let b = box_mesh(DVec3::new(3.0, -3.0, -3.0), DVec3::new(2.0, 6.0, 6.0));
+    let mut pos = a.positions.clone();
+    pos.extend(&b.positions);
+    let mut tris = a.triangles.clone();
+    tris.extend(b.triangles.iter().map(|t| t.map(|k| k + 8)));
+    let corner = DVec3::ONE;
+    for (name, d) in each_index(&pos, &tris) {
+        let mesh = Mesh::new(Arc::new(d), false, 0);
+        assert!(mesh.is_solid());
+        // Out of the box past the corner in x and z, in y before it.
+        let dir = DVec3::new(2.0, -1.0, 0.5);
+        for (from, dir, want) in [
+            (corner - 3.0 * dir, dir, [4.0, 5.0]),
+            (corner + 4.0 * dir, -dir, [2.0, 3.0]),
+        ] {
+            let ray = Ray::new(from, dir);
+            let mut xs = Vec::new();
+            mesh.crossings(&ray, &mut xs);
+            let ts: Vec<f64> = xs.iter().map(|h| h.t).collect();
+            assert_eq!(ts.len(), 2, "{name}: {xs:?}");
+            assert!(
+                (ts[0] - want[0]).abs() < 1e-12 && (ts[1] - want[1]).abs() < 1e-12,
+                "{name}: {ts:?}"
+            );
+            assert!(
+                xs[0].normal.dot(dir) < 0.0 && xs[1].normal.dot(dir) > 0.0,
+                "{name}: {xs:?}"
+            );
+        }
+        for k in 0..20 {
+            let dir = DVec3::new(
+                1.0 + 0.1 * k as f64,
+                -1.0 - 0.037 * k as f64,
+                0.3 + 0.05 * k as f64,
+            );
+            let ray = Ray::new(corner + 1e4 * dir.normalize(), -dir);
+            let mut xs = Vec::new();
+            mesh.crossings(&ray, &mut xs);
+            // The line goes on through the other box: that, and only that.
+            let xs: Vec<f64> = xs.iter().map(|h| ray.at(h.t).x).collect();
+            assert_eq!(xs.len(), 2, "{name}: {k} {xs:?}");
+            assert!(
+                (xs[0] - 5.0).abs() < 1e-9 && (xs[1] - 3.0).abs() < 1e-9,
+                "{name}: {k} {xs:?}"
+            );
         }
     }
 }
