@@ -1251,3 +1251,54 @@ fn a_touch_before_or_after_a_crossing_changes_nothing() {
         }
     }
 }
+
+/// A triangle that pokes out of the cell through its three low faces (or
+/// its three high ones) gets boxes of only its part inside: the plane
+/// x + y + z = 1/2 meets the unit cell in the triangle (½,0,0), (0,½,0),
+/// (0,0,½), cut at x = ¼ into boxes [0,¼]×[0,½]² and [¼,½]×[0,¼]²; the
+/// plane x + y + z = 5/2 in (1,1,½), (1,½,1), (½,1,1), cut at x = ¾ into
+/// [½,¾]×[¾,1]² and [¾,1]×[½,1]². (The triangle's own box, pressed into
+/// the cell, would be a third wider.)
+#[test]
+fn a_triangle_poking_out_of_a_corner_gets_tight_boxes() {
+    let _watchdog = crate::watchdog::start();
+    let cell = Aabb::new(DVec3::ZERO, DVec3::ONE);
+    let b = |lo: [f64; 3], hi: [f64; 3]| Aabb::new(DVec3::from(lo), DVec3::from(hi));
+    for (tri, split, want) in [
+        (
+            [
+                DVec3::new(-1.0, 0.75, 0.75),
+                DVec3::new(0.75, -1.0, 0.75),
+                DVec3::new(0.75, 0.75, -1.0),
+            ],
+            0.25,
+            [
+                b([0.0; 3], [0.25, 0.5, 0.5]),
+                b([0.25, 0.0, 0.0], [0.5, 0.25, 0.25]),
+            ],
+        ),
+        (
+            [
+                DVec3::new(1.75, 0.375, 0.375),
+                DVec3::new(0.375, 1.75, 0.375),
+                DVec3::new(0.375, 0.375, 1.75),
+            ],
+            0.75,
+            [
+                b([0.5, 0.75, 0.75], [0.75, 1.0, 1.0]),
+                b([0.75, 0.5, 0.5], [1.0; 3]),
+            ],
+        ),
+    ] {
+        let got = split_triangle(tri, &cell, 0, split);
+        for k in 0..2 {
+            let g = got[k].expect("both sides hold a part");
+            let w = want[k];
+            let off = (g.min - w.min)
+                .abs()
+                .max((g.max - w.max).abs())
+                .max_element();
+            assert!(off < 1e-8, "side {k}: {g:?}, want {w:?}");
+        }
+    }
+}
