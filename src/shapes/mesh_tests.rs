@@ -1302,3 +1302,39 @@ fn a_triangle_poking_out_of_a_corner_gets_tight_boxes() {
         }
     }
 }
+
+/// A box with a dent: its top is four triangles down to an apex at
+/// (0, 0, ½). A line inside the solid that touches the apex from below
+/// (the dent's faces there face both ways along it) stays inside: it
+/// crosses the box's sides only, in at x = −1 and out at x = 1.
+#[test]
+fn a_touch_from_inside_at_a_dent_keeps_the_line_inside() {
+    let _watchdog = crate::watchdog::start();
+    let cube = box_mesh(DVec3::splat(-1.0), DVec3::splat(2.0));
+    let mut pos = cube.positions.clone();
+    pos.push(DVec3::new(0.0, 0.0, 0.5));
+    // The top, [4, 5, 7, 6] anticlockwise from above, as a fan to the apex.
+    let mut tris: Vec<[u32; 3]> = cube
+        .triangles
+        .iter()
+        .filter(|t| t.iter().any(|&k| pos[k as usize].z < 0.0))
+        .copied()
+        .collect();
+    assert_eq!(tris.len(), 10);
+    tris.extend([[4, 5, 8], [5, 7, 8], [7, 6, 8], [6, 4, 8]]);
+    for (name, d) in each_index(&pos, &tris) {
+        let mesh = Mesh::new(Arc::new(d), false, 0);
+        assert!(mesh.is_solid(), "{name}");
+        for dir in [DVec3::X, -DVec3::X] {
+            let ray = Ray::new(DVec3::new(0.0, 0.0, 0.5) - 3.0 * dir, dir);
+            let mut xs = Vec::new();
+            mesh.crossings(&ray, &mut xs);
+            let ts: Vec<f64> = xs.iter().map(|h| h.t).collect();
+            assert_eq!(ts, [2.0, 4.0], "{name}: {xs:?}");
+            assert!(
+                xs[0].normal.dot(dir) < 0.0 && xs[1].normal.dot(dir) > 0.0,
+                "{name}"
+            );
+        }
+    }
+}
