@@ -1074,6 +1074,22 @@ fn an_open_meshs_crossings_count_shared_edges_once() {
             }
         }
     }
+    // The one sheet from behind (its normals facing away from the line):
+    // still once through a vertex or an edge.
+    for (name, d) in each_index(&pos, &flat_grid_parts().1) {
+        let mesh = Mesh::new(Arc::new(d), false, 0);
+        let eye = DVec3::new(0.3, -0.2, -5.0);
+        for &v in pos.iter().step_by(7) {
+            if v.x.abs() > 1.95 || v.y.abs() > 1.95 {
+                continue;
+            }
+            for q in [v, v + DVec3::new(0.05, 0.0, 0.0)] {
+                let mut xs = Vec::new();
+                mesh.crossings(&Ray::new(eye, q - eye), &mut xs);
+                assert_eq!(xs.len(), 1, "{name}: {q} {xs:?}");
+            }
+        }
+    }
     // A tent: two slopes meeting at the ridge x = 0, z = 1.
     let p = vec![
         DVec3::new(-1.0, -1.0, 0.0),
