@@ -778,3 +778,580 @@ fn kd_tree_loses_a_ray_along_a_box_face() {
         assert_eq!(got, want.map(|h| h.0), "{name}");
     }
 }
+
+/// A mesh's (u, v) is its file's per-vertex uv interpolated: for a uv that
+/// is an affine function of the position, that function at the hit point
+/// (up to rounding). Without uv, (u, v) are the barycentric weights of
+/// corners 1 and 2: the point is v0 + u·(v1 − v0) + v·(v2 − v0).
+#[test]
+fn uv_is_the_files_uv_interpolated_or_else_the_barycentrics() {
+    let _watchdog = crate::watchdog::start();
+    // Two triangles out of any axis plane (and not in one plane).
+    let pos = vec![
+        DVec3::new(-1.0, -1.0, 0.2),
+        DVec3::new(1.5, -0.8, -0.1),
+        DVec3::new(1.2, 1.1, 0.4),
+        DVec3::new(-0.9, 1.3, 0.3),
+    ];
+    let affine = |p: DVec3| {
+        DVec2::new(
+            0.3 + 0.5 * p.x - 0.2 * p.y + 0.1 * p.z,
+            -0.7 + 0.25 * p.x + 0.6 * p.y - 0.3 * p.z,
+        )
+    };
+    let uvs: Vec<DVec2> = pos.iter().map(|&p| affine(p)).collect();
+    let rays = testing::rays_towards(DVec3::new(0.1, 0.1, 0.2), 0.9, 300, 21);
+    for smooth in [false, true] {
+        let d = MeshData::from_parts(
+            pos.clone(),
+            None,
+            Some(uvs.clone()),
+            vec![[0, 1, 2], [0, 2, 3]],
+        );
+        let mesh = Mesh::new(Arc::new(d), smooth, 0);
+        let mut hits = 0;
+        for r in &rays {
+            let Some(h) = mesh.intersect(r, 0.0, f64::INFINITY) else {
+                continue;
+            };
+            let want = affine(r.at(h.t));
+            assert!(
+                (h.uv - want).abs().max_element() < 1e-9,
+                "{:?} vs {want:?}",
+                h.uv
+            );
+            hits += 1;
+        }
+        assert!(hits > 100, "{hits}");
+        // One triangle without uv: the barycentrics.
+        let d = MeshData::from_parts(pos.clone(), None, None, vec![[1, 2, 3]]);
+        let mesh = Mesh::new(Arc::new(d), smooth, 0);
+        let mut hits = 0;
+        for r in &rays {
+            let Some(h) = mesh.intersect(r, 0.0, f64::INFINITY) else {
+                continue;
+            };
+            let (u, v) = (h.uv.x, h.uv.y);
+            assert!(u >= 0.0 && v >= 0.0 && u + v <= 1.0 + 1e-12, "{u} {v}");
+            let p = pos[1] + u * (pos[2] - pos[1]) + v * (pos[3] - pos[1]);
+            assert!((p - r.at(h.t)).length() < 1e-9, "{p} vs {}", r.at(h.t));
+            hits += 1;
+        }
+        assert!(hits > 50, "{hits}");
+    }
+}
+
+/// A smooth mesh's normal is its vertex normals (as the file gives them)
+/// interpolated by the barycentric weights: on the right triangle (0,0,0),
+/// (1,0,0), (0,1,0) the weights at (x, y) are 1 − x − y, x and y. Where
+/// they cancel, the face's own normal stands in; the geometric normal is
+/// the face's, e1 × e2, either way.
+#[test]
+fn smooth_normals_interpolate_the_vertex_normals() {
+    let _watchdog = crate::watchdog::start();
+    let pos = vec![DVec3::ZERO, DVec3::X, DVec3::Y];
+    let normals = vec![
+        DVec3::new(0.25, -0.125, 1.0),
+        DVec3::new(-0.5, 0.75, 2.0),
+        DVec3::new(0.125, 0.5, 0.5),
+    ];
+    let d = MeshData::from_parts(pos.clone(), Some(normals.clone()), None, vec![[0, 1, 2]]);
+    let mesh = Mesh::new(Arc::new(d), true, 0);
+    for (x, y) in [(0.25, 0.125), (0.5, 0.25), (0.125, 0.75), (0.0625, 0.0625)] {
+        // Straight down, and slanted (through the same point).
+        for dir in [DVec3::new(0.0, 0.0, -1.0), DVec3::new(0.3, -0.2, -1.0)] {
+            let at = DVec3::new(x, y, 0.0);
+            let ray = Ray::new(at - 2.0 * dir, dir);
+            let h = mesh.intersect(&ray, 0.0, f64::INFINITY).expect("hit");
+            let want = (1.0 - x - y) * normals[0] + x * normals[1] + y * normals[2];
+            assert!((h.normal - want).length() < 1e-12, "{} vs {want}", h.normal);
+            assert_eq!(h.geo_normal, DVec3::Z);
+        }
+    }
+    // Normals that cancel at (0.5, 0.25): 0.25·z − 0.5·z + 0.25·z = 0.
+    let normals = vec![DVec3::Z, -DVec3::Z, DVec3::Z];
+    let d = MeshData::from_parts(pos, Some(normals), None, vec![[0, 1, 2]]);
+    let mesh = Mesh::new(Arc::new(d), true, 0);
+    let ray = Ray::new(DVec3::new(0.5, 0.25, 1.0), -DVec3::Z);
+    let h = mesh.intersect(&ray, 0.0, f64::INFINITY).expect("hit");
+    assert_eq!((h.normal, h.geo_normal), (DVec3::Z, DVec3::Z));
+}
+
+/// A smooth mesh's point is lifted off its facet towards the viewer, onto
+/// the curved surface its vertex normals describe: on an icosphere (one
+/// subdivision, so the facets sag by up to 0.2) seen from outside, away
+/// from the centre and nearer the sphere than the facet's point (it may
+/// overshoot: each corner's tangent plane lies outside the sphere). Seen
+/// from inside, the facet is on the viewer's side of every corner's
+/// tangent plane already: no lift. A flat mesh's point is on the facet.
+#[test]
+fn smooth_points_are_lifted_onto_the_curve_towards_the_viewer() {
+    let _watchdog = crate::watchdog::start();
+    let d = sphere_mesh(1);
+    let smooth = Mesh::new(d.clone(), true, 0);
+    let flat = Mesh::new(d, false, 0);
+    let (mut lifted, mut gaps) = (0, 0.0);
+    for r in testing::rays_towards(DVec3::ZERO, 0.8, 400, 31) {
+        let Some(h) = smooth.intersect(&r, 0.0, f64::INFINITY) else {
+            continue;
+        };
+        let facet = r.at(h.t);
+        let lift = h.point - facet;
+        assert!(
+            lift.dot(h.geo_normal) >= 0.0,
+            "{lift} against {}",
+            h.geo_normal
+        );
+        let (before, after) = (1.0 - facet.length(), 1.0 - h.point.length());
+        if before > 1e-3 {
+            assert!(after.abs() < before, "{before} -> {after}");
+            lifted += 1;
+            gaps += after.abs() / before;
+        }
+        let f = flat.intersect(&r, 0.0, f64::INFINITY).expect("flat hit");
+        assert!((f.point - facet).length() < 1e-12);
+    }
+    assert!(lifted > 100, "{lifted}");
+    // Not lifted, the gap would stay whole (1); lifted, a sixth goes.
+    assert!(gaps / (lifted as f64) < 0.9, "{}", gaps / lifted as f64);
+    // From the centre out: the facet is on the viewer's side already.
+    for r in testing::rays_towards(DVec3::ZERO, 0.0, 200, 32) {
+        let from_inside = Ray::new(DVec3::new(0.01, -0.02, 0.015), r.dir);
+        let h = smooth
+            .intersect(&from_inside, 0.0, f64::INFINITY)
+            .expect("hit");
+        let facet = from_inside.at(h.t);
+        assert!((h.point - facet).length() < 1e-12, "{} vs {facet}", h.point);
+    }
+}
+
+/// The lift by its definition (Hanika): the facet point p is projected
+/// onto the tangent plane of each corner c_k (normal n_k, unit, turned to
+/// the viewer's side) where it lies below it, and the projections are
+/// blended by the barycentric weights b_k:
+/// lift = Σ b_k · max(0, −(p − c_k)·n_k) · n_k. On the right triangle
+/// (0,0,0), (1,0,0), (0,1,0) in z = 0 at dyadic (x, y) the weights are
+/// exact, 1 − x − y, x and y; the third corner's plane leans so that it
+/// lifts only a ray from below. Its error bound is non-negative, finite
+/// and rounding-sized, and not zero once the point is lifted.
+#[test]
+fn the_lift_projects_onto_each_corners_tangent_plane() {
+    let _watchdog = crate::watchdog::start();
+    let pos = vec![DVec3::ZERO, DVec3::X, DVec3::Y];
+    let normals = vec![
+        DVec3::new(-0.3, -0.3, 1.0),
+        DVec3::new(0.4, -0.1, 1.0),
+        DVec3::new(0.2, -0.5, 1.0),
+    ];
+    let d = MeshData::from_parts(pos.clone(), Some(normals.clone()), None, vec![[0, 1, 2]]);
+    let mesh = Mesh::new(Arc::new(d), true, 0);
+    for (x, y) in [
+        (0.25, 0.125),
+        (0.5, 0.25),
+        (0.125, 0.75),
+        (0.0625, 0.5),
+        (1.0, 0.0),
+    ] {
+        let p = DVec3::new(x, y, 0.0);
+        let b = [1.0 - x - y, x, y];
+        for side in [1.0, -1.0] {
+            let ray = Ray::new(p + DVec3::new(0.0, 0.0, side), DVec3::new(0.0, 0.0, -side));
+            let h = mesh.intersect(&ray, 0.0, f64::INFINITY).expect("hit");
+            let mut want = p;
+            for k in 0..3 {
+                let n = normals[k].normalize() * side;
+                want += b[k] * f64::max(0.0, -(p - pos[k]).dot(n)) * n;
+            }
+            assert!((h.point - want).length() < 1e-14, "{} vs {want}", h.point);
+            let e = h.p_error;
+            assert!(e.min_element() >= 0.0 && e.max_element() < 1e-14, "{e}");
+            if want.z != 0.0 {
+                assert!(e.z > 0.0, "a lifted point's z is rounded: {e}");
+            }
+        }
+    }
+}
+
+/// A closed mesh wound inwards (every triangle's corners in the other
+/// order, as the Stanford bunny is wound) is the same solid: its crossings
+/// are at the same t, still alternate entering and leaving, and report the
+/// same (outward) normals; its nearest hit is the same.
+#[test]
+fn a_mesh_wound_inwards_is_the_same_solid() {
+    let _watchdog = crate::watchdog::start();
+    let (p, t) = icosphere(2);
+    let inward: Vec<[u32; 3]> = t.iter().map(|&[a, b, c]| [a, c, b]).collect();
+    let outward = Mesh::new(
+        Arc::new(MeshData::from_parts(p.clone(), None, None, t)),
+        false,
+        0,
+    );
+    let inward = Mesh::new(
+        Arc::new(MeshData::from_parts(p, None, None, inward)),
+        false,
+        0,
+    );
+    assert!(inward.is_solid());
+    let mut rays = testing::rays_towards(DVec3::ZERO, 1.2, 500, 41);
+    // And from inside, where the line is entered behind the origin.
+    rays.extend(
+        testing::rays_towards(DVec3::ZERO, 0.5, 100, 42)
+            .iter()
+            .map(|r| Ray::new(r.origin * 0.05, r.dir)),
+    );
+    testing::check_alternation(&inward, &rays);
+    let mut crossed = 0;
+    for r in &rays {
+        let (mut a, mut b) = (Vec::new(), Vec::new());
+        outward.crossings(r, &mut a);
+        inward.crossings(r, &mut b);
+        assert_eq!(a.len(), b.len(), "{r:?}");
+        for (x, y) in a.iter().zip(&b) {
+            assert!(
+                (x.t - y.t).abs() <= 1e-12 * x.t.abs().max(1.0),
+                "{} vs {}",
+                x.t,
+                y.t
+            );
+            assert_eq!(x.geo_normal, y.geo_normal);
+        }
+        crossed += !a.is_empty() as usize;
+        let (x, y) = (
+            outward.intersect(r, 0.0, f64::INFINITY),
+            inward.intersect(r, 0.0, f64::INFINITY),
+        );
+        match (x, y) {
+            (Some(x), Some(y)) => assert!((x.t - y.t).abs() <= 1e-12 * x.t, "{} vs {}", x.t, y.t),
+            (x, y) => assert!(x.is_none() && y.is_none(), "{x:?} vs {y:?}"),
+        }
+    }
+    assert!(crossed > 300, "{crossed}");
+}
+
+/// An open mesh's crossings: a line through a shared vertex or edge of a
+/// sheet (the triangles there all facing one way) crosses it once, and two
+/// sheets are two crossings; a line touching a fold (two faces meeting at
+/// the ridge, one facing the line and one turned away) enters and leaves
+/// there, two crossings at one t.
+#[test]
+fn an_open_meshs_crossings_count_shared_edges_once() {
+    let _watchdog = crate::watchdog::start();
+    // The grid, and the grid again 0.5 below it.
+    let (pos, tris) = flat_grid_parts();
+    let mut both = pos.clone();
+    both.extend(pos.iter().map(|p| *p - DVec3::new(0.0, 0.0, 0.5)));
+    let base = pos.len() as u32;
+    let mut two = tris.clone();
+    two.extend(tris.iter().map(|t| t.map(|k| k + base)));
+    for (sheets, p, t) in [(1, pos.clone(), tris), (2, both, two)] {
+        for (name, d) in each_index(&p, &t) {
+            let mesh = Mesh::new(Arc::new(d), false, 0);
+            assert!(!mesh.is_solid());
+            // Near, and far (where the triangles around a vertex give t
+            // some ulps apart: still one point).
+            for eye in [DVec3::new(0.3, -0.2, 5.0), DVec3::new(3e3, -2e3, 1e4)] {
+                for &v in pos.iter().step_by(7) {
+                    // (Where the line meets the lower sheet too.)
+                    if v.x.abs() > 1.5 || v.y.abs() > 1.5 {
+                        continue;
+                    }
+                    for q in [
+                        v,
+                        v + DVec3::new(0.05, 0.0, 0.0),
+                        v + DVec3::new(0.05, 0.05, 0.0),
+                    ] {
+                        let far = (q - eye).length();
+                        let ray = Ray::new(eye, (q - eye) / far);
+                        let mut xs = Vec::new();
+                        mesh.crossings(&ray, &mut xs);
+                        assert_eq!(xs.len(), sheets, "{name}: {q} {xs:?}");
+                        assert!((xs[0].t - far).abs() < 1e-9 * far, "{name}: {}", xs[0].t);
+                        if sheets == 2 {
+                            assert!(xs[1].t > far + 0.4, "{name}: {}", xs[1].t);
+                        }
+                    }
+                }
+            }
+        }
+    }
+    // The one sheet from behind (its normals facing away from the line):
+    // still once through a vertex or an edge.
+    for (name, d) in each_index(&pos, &flat_grid_parts().1) {
+        let mesh = Mesh::new(Arc::new(d), false, 0);
+        let eye = DVec3::new(0.3, -0.2, -5.0);
+        for &v in pos.iter().step_by(7) {
+            if v.x.abs() > 1.95 || v.y.abs() > 1.95 {
+                continue;
+            }
+            for q in [v, v + DVec3::new(0.05, 0.0, 0.0)] {
+                let mut xs = Vec::new();
+                mesh.crossings(&Ray::new(eye, q - eye), &mut xs);
+                assert_eq!(xs.len(), 1, "{name}: {q} {xs:?}");
+            }
+        }
+    }
+    // A tent: two slopes meeting at the ridge x = 0, z = 1.
+    let p = vec![
+        DVec3::new(-1.0, -1.0, 0.0),
+        DVec3::new(0.0, -1.0, 1.0),
+        DVec3::new(0.0, 1.0, 1.0),
+        DVec3::new(-1.0, 1.0, 0.0),
+        DVec3::new(1.0, -1.0, 0.0),
+        DVec3::new(1.0, 1.0, 0.0),
+    ];
+    let t = vec![[0, 1, 2], [0, 2, 3], [1, 4, 5], [1, 5, 2]];
+    for (name, d) in each_index(&p, &t) {
+        let mesh = Mesh::new(Arc::new(d), false, 0);
+        // Along x over the ridge: a touch, in and out at t = 3.
+        let ray = Ray::new(DVec3::new(-3.0, 0.25, 1.0), DVec3::X);
+        let mut xs = Vec::new();
+        mesh.crossings(&ray, &mut xs);
+        assert_eq!(xs.len(), 2, "{name}: {xs:?}");
+        assert_eq!((xs[0].t, xs[1].t), (3.0, 3.0), "{name}");
+        let facing: Vec<bool> = xs.iter().map(|h| h.normal.dot(ray.dir) < 0.0).collect();
+        assert!(
+            facing.contains(&true) && facing.contains(&false),
+            "{name}: {xs:?}"
+        );
+        // Down onto the ridge: both slopes face up, one crossing.
+        let ray = Ray::new(DVec3::new(0.0, 0.25, 3.0), -DVec3::Z);
+        let mut xs = Vec::new();
+        mesh.crossings(&ray, &mut xs);
+        assert_eq!(xs.len(), 1, "{name}: {xs:?}");
+        assert_eq!(xs[0].t, 2.0);
+    }
+}
+
+/// The window (t_min, t_max) is open at both ends through either index:
+/// a square in z = 0 met straight down from z = 1 at t = 1 exactly is not
+/// in (0, 1) nor in (1, ∞), and is in (0, 1⁺) and (1⁻, ∞), for the
+/// nearest hit and for shadow rays.
+#[test]
+fn the_window_is_open_at_both_ends() {
+    let _watchdog = crate::watchdog::start();
+    let pos = [
+        DVec3::new(-1.0, -1.0, 0.0),
+        DVec3::new(1.0, -1.0, 0.0),
+        DVec3::new(1.0, 1.0, 0.0),
+        DVec3::new(-1.0, 1.0, 0.0),
+    ];
+    for (name, d) in each_index(&pos, &[[0, 1, 2], [0, 2, 3]]) {
+        let mesh = Mesh::new(Arc::new(d), false, 0);
+        for at in [DVec3::new(0.25, 0.375, 0.0), DVec3::new(-0.5, 0.125, 0.0)] {
+            let ray = Ray::new(at + DVec3::Z, -DVec3::Z);
+            for (lo, hi, hit) in [
+                (0.0, 1.0, false),
+                (1.0, f64::INFINITY, false),
+                (0.0, 1f64.next_up(), true),
+                (1f64.next_down(), f64::INFINITY, true),
+                (1f64.next_down(), 1f64.next_up(), true),
+            ] {
+                let h = mesh.intersect(&ray, lo, hi);
+                assert_eq!(h.map(|h| h.t), hit.then_some(1.0), "{name}: ({lo}, {hi})");
+                assert_eq!(mesh.occludes(&ray, lo, hi), hit, "{name}: ({lo}, {hi})");
+            }
+        }
+    }
+}
+
+/// Every way in makes the same mesh: a PLY file's bytes, the file on disk
+/// and the arrays themselves give the same triangles, corners and box,
+/// whichever index; each says which index it has, and the BVH its figures.
+/// Shadow rays and the nearest hit agree with the crossings in every
+/// window, and every hit of a flat mesh lies in the box.
+#[test]
+fn files_bytes_and_arrays_make_the_same_mesh() {
+    let _watchdog = crate::watchdog::start();
+    let (p, t) = icosphere(1);
+    let faces: Vec<Vec<u32>> = t.iter().map(|f| f.to_vec()).collect();
+    let ply = crate::formats::ply::write_ascii(&p, &faces);
+    let path = std::env::temp_dir().join(format!("raytrace-mesh-test-{}.ply", std::process::id()));
+    std::fs::write(&path, &ply).unwrap();
+    let loaded = [
+        MeshData::from_bytes(ply.as_bytes()).unwrap(),
+        MeshData::load(&path).unwrap(),
+        MeshData::load_with(&path, Accel::KdTree).unwrap(),
+        MeshData::from_bytes_with(ply.as_bytes(), Accel::KdTree).unwrap(),
+    ];
+    std::fs::remove_file(&path).unwrap();
+    let want = p.iter().fold(Aabb::new(p[0], p[0]), |b, &v| b.grow(v));
+    for (k, d) in loaded.iter().enumerate() {
+        assert_eq!((d.triangle_count(), d.vertex_count()), (t.len(), p.len()));
+        for (i, f) in t.iter().enumerate() {
+            // The file holds f32-rounded or printed corners: near enough.
+            let got = d.triangle(i);
+            for c in 0..3 {
+                assert!((got[c] - p[f[c] as usize]).length() < 1e-6, "{k}: {i}");
+            }
+        }
+        let b = d.bounds();
+        assert!((b.min - want.min).abs().max_element() < 1e-6, "{k}: {b:?}");
+        assert!((b.max - want.max).abs().max_element() < 1e-6, "{k}: {b:?}");
+        let kd = k >= 2;
+        assert_eq!(d.accel(), if kd { Accel::KdTree } else { Accel::Bvh });
+        assert_eq!(d.bvh_stats().map(|s| s.items), (!kd).then_some(t.len()));
+    }
+    for (name, d) in each_index(&p, &t) {
+        assert_eq!(d.accel() == Accel::KdTree, name == "kd-tree", "{name}");
+        let d = Arc::new(d);
+        for smooth in [false, true] {
+            let mesh = Mesh::new(d.clone(), smooth, 0);
+            assert_eq!(mesh.bounds(), d.bounds());
+            let rays = testing::rays_towards(DVec3::ZERO, 1.1, 300, 51);
+            assert!(testing::check_occludes_agrees(&mesh, &rays) > 100, "{name}");
+            // (A smooth mesh's point is lifted off the facet, onto the
+            // curve, which may bulge out of the corners' box.)
+            if !smooth {
+                assert!(
+                    testing::check_bounds_hold_hits(&mesh, &rays) > 100,
+                    "{name}"
+                );
+            }
+        }
+    }
+}
+
+/// Two boxes in one closed mesh: a line that touches the first at a corner
+/// (the triangles there face both ways: it does not go in) and then passes
+/// through the second crosses only the second, in at x = 3 and out at
+/// x = 5, whichever way it runs, and even from far away (where the
+/// corner's triangles give t some ulps apart).
+#[test]
+fn a_touch_before_or_after_a_crossing_changes_nothing() {
+    let _watchdog = crate::watchdog::start();
+    let a = box_mesh(DVec3::splat(-1.0), DVec3::splat(2.0));
+    let b = box_mesh(DVec3::new(3.0, -3.0, -3.0), DVec3::new(2.0, 6.0, 6.0));
+    let mut pos = a.positions.clone();
+    pos.extend(&b.positions);
+    let mut tris = a.triangles.clone();
+    tris.extend(b.triangles.iter().map(|t| t.map(|k| k + 8)));
+    let corner = DVec3::ONE;
+    for (name, d) in each_index(&pos, &tris) {
+        let mesh = Mesh::new(Arc::new(d), false, 0);
+        assert!(mesh.is_solid());
+        // Out of the box past the corner in x and z, in y before it.
+        let dir = DVec3::new(2.0, -1.0, 0.5);
+        for (from, dir, want) in [
+            (corner - 3.0 * dir, dir, [4.0, 5.0]),
+            (corner + 4.0 * dir, -dir, [2.0, 3.0]),
+        ] {
+            let ray = Ray::new(from, dir);
+            let mut xs = Vec::new();
+            mesh.crossings(&ray, &mut xs);
+            let ts: Vec<f64> = xs.iter().map(|h| h.t).collect();
+            assert_eq!(ts.len(), 2, "{name}: {xs:?}");
+            assert!(
+                (ts[0] - want[0]).abs() < 1e-12 && (ts[1] - want[1]).abs() < 1e-12,
+                "{name}: {ts:?}"
+            );
+            assert!(
+                xs[0].normal.dot(dir) < 0.0 && xs[1].normal.dot(dir) > 0.0,
+                "{name}: {xs:?}"
+            );
+        }
+        for k in 0..20 {
+            let dir = DVec3::new(
+                1.0 + 0.1 * k as f64,
+                -1.0 - 0.037 * k as f64,
+                0.3 + 0.05 * k as f64,
+            );
+            let ray = Ray::new(corner + 1e4 * dir.normalize(), -dir);
+            let mut xs = Vec::new();
+            mesh.crossings(&ray, &mut xs);
+            // The line goes on through the other box: that, and only that.
+            let xs: Vec<f64> = xs.iter().map(|h| ray.at(h.t).x).collect();
+            assert_eq!(xs.len(), 2, "{name}: {k} {xs:?}");
+            assert!(
+                (xs[0] - 5.0).abs() < 1e-9 && (xs[1] - 3.0).abs() < 1e-9,
+                "{name}: {k} {xs:?}"
+            );
+        }
+    }
+}
+
+/// A triangle that pokes out of the cell through its three low faces (or
+/// its three high ones) gets boxes of only its part inside: the plane
+/// x + y + z = 1/2 meets the unit cell in the triangle (½,0,0), (0,½,0),
+/// (0,0,½), cut at x = ¼ into boxes [0,¼]×[0,½]² and [¼,½]×[0,¼]²; the
+/// plane x + y + z = 5/2 in (1,1,½), (1,½,1), (½,1,1), cut at x = ¾ into
+/// [½,¾]×[¾,1]² and [¾,1]×[½,1]². (The triangle's own box, pressed into
+/// the cell, would be a third wider.)
+#[test]
+fn a_triangle_poking_out_of_a_corner_gets_tight_boxes() {
+    let _watchdog = crate::watchdog::start();
+    let cell = Aabb::new(DVec3::ZERO, DVec3::ONE);
+    let b = |lo: [f64; 3], hi: [f64; 3]| Aabb::new(DVec3::from(lo), DVec3::from(hi));
+    for (tri, split, want) in [
+        (
+            [
+                DVec3::new(-1.0, 0.75, 0.75),
+                DVec3::new(0.75, -1.0, 0.75),
+                DVec3::new(0.75, 0.75, -1.0),
+            ],
+            0.25,
+            [
+                b([0.0; 3], [0.25, 0.5, 0.5]),
+                b([0.25, 0.0, 0.0], [0.5, 0.25, 0.25]),
+            ],
+        ),
+        (
+            [
+                DVec3::new(1.75, 0.375, 0.375),
+                DVec3::new(0.375, 1.75, 0.375),
+                DVec3::new(0.375, 0.375, 1.75),
+            ],
+            0.75,
+            [
+                b([0.5, 0.75, 0.75], [0.75, 1.0, 1.0]),
+                b([0.75, 0.5, 0.5], [1.0; 3]),
+            ],
+        ),
+    ] {
+        let got = split_triangle(tri, &cell, 0, split);
+        for k in 0..2 {
+            let g = got[k].expect("both sides hold a part");
+            let w = want[k];
+            let off = (g.min - w.min)
+                .abs()
+                .max((g.max - w.max).abs())
+                .max_element();
+            assert!(off < 1e-8, "side {k}: {g:?}, want {w:?}");
+        }
+    }
+}
+
+/// A box with a dent: its top is four triangles down to an apex at
+/// (0, 0, ½). A line inside the solid that touches the apex from below
+/// (the dent's faces there face both ways along it) stays inside: it
+/// crosses the box's sides only, in at x = −1 and out at x = 1.
+#[test]
+fn a_touch_from_inside_at_a_dent_keeps_the_line_inside() {
+    let _watchdog = crate::watchdog::start();
+    let cube = box_mesh(DVec3::splat(-1.0), DVec3::splat(2.0));
+    let mut pos = cube.positions.clone();
+    pos.push(DVec3::new(0.0, 0.0, 0.5));
+    // The top, [4, 5, 7, 6] anticlockwise from above, as a fan to the apex.
+    let mut tris: Vec<[u32; 3]> = cube
+        .triangles
+        .iter()
+        .filter(|t| t.iter().any(|&k| pos[k as usize].z < 0.0))
+        .copied()
+        .collect();
+    assert_eq!(tris.len(), 10);
+    tris.extend([[4, 5, 8], [5, 7, 8], [7, 6, 8], [6, 4, 8]]);
+    for (name, d) in each_index(&pos, &tris) {
+        let mesh = Mesh::new(Arc::new(d), false, 0);
+        assert!(mesh.is_solid(), "{name}");
+        for dir in [DVec3::X, -DVec3::X] {
+            let ray = Ray::new(DVec3::new(0.0, 0.0, 0.5) - 3.0 * dir, dir);
+            let mut xs = Vec::new();
+            mesh.crossings(&ray, &mut xs);
+            let ts: Vec<f64> = xs.iter().map(|h| h.t).collect();
+            assert_eq!(ts, [2.0, 4.0], "{name}: {xs:?}");
+            assert!(
+                xs[0].normal.dot(dir) < 0.0 && xs[1].normal.dot(dir) > 0.0,
+                "{name}"
+            );
+        }
+    }
+}
