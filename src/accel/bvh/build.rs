@@ -329,6 +329,88 @@ mod tests {
         assert!(sizes.iter().all(|&s| s <= 8), "{sizes:?}");
     }
 
+    fn depth(b: &Binary) -> usize {
+        match b {
+            Binary::Leaf { .. } => 0,
+            Binary::Inner { children, .. } => 1 + depth(&children[0]).max(depth(&children[1])),
+        }
+    }
+
+    /// A node at the depth cap is a leaf, however many items it holds
+    /// (the traversal stack is sized for `MAX_BINARY_DEPTH` levels).
+    #[test]
+    fn the_depth_is_capped() {
+        let _watchdog = crate::watchdog::start();
+        let boxes: Vec<Aabb> = (0..1000)
+            .map(|i| {
+                let p = DVec3::new((i % 10) as f64, (i / 10 % 10) as f64, (i / 100) as f64);
+                Aabb::new(p, p + DVec3::splat(0.5))
+            })
+            .collect();
+        let items: Vec<Item> = boxes
+            .iter()
+            .enumerate()
+            .map(|(i, b)| {
+                let b = Box32 {
+                    lo: b.min.to_array().map(round_down),
+                    hi: b.max.to_array().map(round_up),
+                };
+                Item {
+                    id: i as u32,
+                    b,
+                    c: [0, 1, 2].map(|a| 0.5 * b.lo[a] + 0.5 * b.hi[a]),
+                }
+            })
+            .collect();
+        for start in [MAX_BINARY_DEPTH - 2, MAX_BINARY_DEPTH] {
+            let tree = node(items.clone(), P, start);
+            assert_eq!(depth(&tree), MAX_BINARY_DEPTH - start);
+            let mut ids = count(&tree);
+            ids.sort();
+            assert_eq!(ids, (0..1000).collect::<Vec<_>>());
+        }
+    }
+
+    /// Centres spread geometrically (a lopsided tree): every item is kept
+    /// and the wide walk along the row meets every one.
+    #[test]
+    fn a_lopsided_row_is_walked_whole() {
+        let _watchdog = crate::watchdog::start();
+        let boxes: Vec<Aabb> = (0..300)
+            .map(|i| {
+                let x = 1.3f64.powi(i);
+                Aabb::new(DVec3::new(x, 0.0, 0.0), DVec3::new(x * 1.01, 1.0, 1.0))
+            })
+            .collect();
+        for p in [
+            P,
+            BvhParams {
+                group_cost: 4.0,
+                group: 1,
+                max_leaf: 4,
+            },
+        ] {
+            let tree = binary(&boxes, p).unwrap();
+            assert!(depth(&tree) <= MAX_BINARY_DEPTH);
+            let mut ids = count(&tree);
+            ids.sort();
+            assert_eq!(ids, (0..300).collect::<Vec<_>>());
+            let bvh = super::super::Bvh::build(&boxes, p);
+            let ray = crate::geometry::Ray::new(DVec3::new(-1.0, 0.5, 0.5), DVec3::X);
+            let mut met: Vec<u32> = Vec::new();
+            bvh.walk(&ray, 0.0, f64::INFINITY, |first, n, limit| {
+                met.extend(
+                    bvh.items()[first..first + n]
+                        .iter()
+                        .filter(|&&i| i != u32::MAX),
+                );
+                limit
+            });
+            met.sort();
+            assert_eq!(met, (0..300).collect::<Vec<_>>());
+        }
+    }
+
     #[test]
     fn empty_boxes_are_left_out() {
         assert!(binary(&[Aabb::EMPTY], P).is_none());
