@@ -542,14 +542,26 @@ mod tests {
             (s >> 11) as f64 / (1u64 << 53) as f64
         };
         // Small spheres in a 10-wide box above a floor; lights over them.
-        let mut objects: Vec<Box<dyn Shape>> = (0..60)
-            .map(|i| {
+        let balls: Vec<(DVec3, f64)> = (0..60)
+            .map(|_| {
                 let c = DVec3::new(rnd() * 10.0 - 5.0, rnd() * 4.0, rnd() * 10.0 - 5.0);
-                Box::new(Sphere::new(c, 0.1 + 0.3 * rnd(), i)) as Box<dyn Shape>
+                (c, 0.1 + 0.3 * rnd())
             })
             .collect();
-        objects.push(Box::new(Plane::new(DVec3::Y, -0.5, 999)));
-        let world = World::build(objects);
+        // Both indexes find the blockers (each its own box query).
+        for accel in [Accel::KdTree, Accel::Bvh] {
+            let mut objects: Vec<Box<dyn Shape>> = balls
+                .iter()
+                .enumerate()
+                .map(|(i, &(c, r))| Box::new(Sphere::new(c, r, i as u32)) as Box<dyn Shape>)
+                .collect();
+            objects.push(Box::new(Plane::new(DVec3::Y, -0.5, 999)));
+            let world = World::build_with(objects, accel);
+            blockers_decide_every_ray(&world, &mut rnd);
+        }
+    }
+
+    fn blockers_decide_every_ray(world: &World, rnd: &mut impl FnMut() -> f64) {
         let (mut used, mut empty, mut blocked, mut clear) = (0, 0, 0, 0);
         for _ in 0..400 {
             let apex = DVec3::new(rnd() * 10.0 - 5.0, rnd() * 4.0 - 0.4, rnd() * 10.0 - 5.0);
@@ -588,6 +600,7 @@ mod tests {
 
     #[test]
     fn a_floor_below_the_shaft_is_no_blocker_and_one_across_it_is() {
+        let _watchdog = crate::watchdog::start();
         let corners = [
             DVec3::new(-1.0, 6.0, -1.0),
             DVec3::new(1.0, 6.0, -1.0),
@@ -610,13 +623,7 @@ mod tests {
 
     #[test]
     fn more_blockers_than_the_list_holds_send_the_rays_to_the_tree() {
-        let objects: Vec<Box<dyn Shape>> = (0..Blockers::MAX + 1)
-            .map(|i| {
-                let c = DVec3::new(0.0, 1.0 + 0.5 * i as f64, 0.0);
-                Box::new(Sphere::new(c, 0.1, i as u32)) as Box<dyn Shape>
-            })
-            .collect();
-        let world = World::build(objects);
+        let _watchdog = crate::watchdog::start();
         let corners = [
             DVec3::new(-1.0, 6.0, -1.0),
             DVec3::new(1.0, 6.0, -1.0),
@@ -624,6 +631,19 @@ mod tests {
             DVec3::new(-1.0, 6.0, 1.0),
         ];
         let shaft = Shaft::new(DVec3::ZERO, corners).unwrap();
-        assert!(world.blockers(&shaft).is_none());
+        for n in [Blockers::MAX, Blockers::MAX + 1] {
+            for accel in [Accel::KdTree, Accel::Bvh] {
+                let objects: Vec<Box<dyn Shape>> = (0..n)
+                    .map(|i| {
+                        let c = DVec3::new(0.0, 1.0 + 0.5 * i as f64, 0.0);
+                        Box::new(Sphere::new(c, 0.1, i as u32)) as Box<dyn Shape>
+                    })
+                    .collect();
+                let world = World::build_with(objects, accel);
+                let found = world.blockers(&shaft);
+                // As many as the list holds are listed; one more, none.
+                assert_eq!(found.map(|b| b.len()), (n == Blockers::MAX).then_some(n));
+            }
+        }
     }
 }

@@ -291,6 +291,7 @@ mod tests {
 
     #[test]
     fn every_item_once_and_boxes_nest() {
+        let _watchdog = crate::watchdog::start();
         fn check(b: &Binary) {
             if let Binary::Inner { bounds, children } = b {
                 for c in children.iter() {
@@ -315,6 +316,7 @@ mod tests {
 
     #[test]
     fn identical_boxes_split_by_index_down_to_the_cap() {
+        let _watchdog = crate::watchdog::start();
         let boxes = vec![Aabb::new(DVec3::ZERO, DVec3::ONE); 100];
         let tree = binary(&boxes, P).unwrap();
         fn leaves(b: &Binary, out: &mut Vec<usize>) {
@@ -413,6 +415,7 @@ mod tests {
 
     #[test]
     fn empty_boxes_are_left_out() {
+        let _watchdog = crate::watchdog::start();
         assert!(binary(&[Aabb::EMPTY], P).is_none());
         let t = binary(&[Aabb::EMPTY, Aabb::new(DVec3::ZERO, DVec3::ONE)], P).unwrap();
         assert_eq!(count(&t), vec![1]);

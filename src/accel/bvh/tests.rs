@@ -188,6 +188,7 @@ proptest! {
         rays in prop::collection::vec((point(), direction()), 1..40),
         on_surface in prop::collection::vec((0usize..80, 0.0f64..1.0, 0.0f64..1.0, direction()), 0..20),
     ) {
+        let _watchdog = crate::watchdog::start();
         let mut all: Vec<(Ray, f64, f64)> = rays
             .iter()
             .map(|&(o, d)| (Ray::new(o * 2.0, d), 0.0, f64::INFINITY))
@@ -206,6 +207,7 @@ proptest! {
 
 #[test]
 fn one_triangle() {
+    let _watchdog = crate::watchdog::start();
     let tris = [[DVec3::ZERO, DVec3::X, DVec3::Y]];
     let b = TriangleBvh::build(&tris);
     assert_eq!(b.stats().leaves, 1);
@@ -222,6 +224,7 @@ fn one_triangle() {
 
 #[test]
 fn no_triangles_and_only_degenerate_ones() {
+    let _watchdog = crate::watchdog::start();
     let ray = Ray::new(DVec3::new(0.1, 0.1, 1.0), -DVec3::Z);
     let s = ShearedRay::new(&ray);
     let b = TriangleBvh::build(&[]);
@@ -233,6 +236,7 @@ fn no_triangles_and_only_degenerate_ones() {
 
 #[test]
 fn identical_triangles_all_found() {
+    let _watchdog = crate::watchdog::start();
     let t = [DVec3::ZERO, DVec3::X, DVec3::Y];
     let tris = vec![t; 1000];
     for b in paths(&tris) {
@@ -251,6 +255,7 @@ fn identical_triangles_all_found() {
 
 #[test]
 fn huge_and_tiny_coordinates() {
+    let _watchdog = crate::watchdog::start();
     for scale in [1e-30, 1e-8, 1.0, 1e8, 1e30] {
         let tris: Vec<Tri> = (0..50)
             .map(|i| {
@@ -279,6 +284,7 @@ fn huge_and_tiny_coordinates() {
 
 #[test]
 fn the_box_test_is_conservative_at_grazing_angles() {
+    let _watchdog = crate::watchdog::start();
     // Thin triangles met edge-on and rays barely tilted off an axis: the
     // f32 boxes must never lose what the f64 test finds.
     let mut tris = Vec::new();
@@ -322,6 +328,7 @@ fn the_box_test_is_conservative_at_grazing_angles() {
 /// padding, and stops when told to.
 #[test]
 fn overlapping_finds_every_box_that_meets_the_query() {
+    let _watchdog = crate::watchdog::start();
     let mut seed = 0x5eed_u64;
     let mut next = move || {
         seed = seed
