@@ -606,5 +606,15 @@ fn overlapping_counts_touching_boxes() {
                 );
             }
         }
+        // A query clear of every box (beyond the grid in one axis and
+        // overlapping it in the others) visits nothing.
+        for a in 0..3 {
+            for side in [-1.0, 1.0] {
+                let mut c = DVec3::splat(3.0);
+                c[a] = 3.0 + side * 4.0;
+                let q = Aabb::new(c - DVec3::splat(0.5), c + DVec3::splat(0.5));
+                assert!(bvh.overlapping(&q, |k| panic!("box {k} visited for {q:?}")));
+            }
+        }
     }
 }
