@@ -622,6 +622,63 @@ mod tests {
     }
 
     #[test]
+    fn accel_names_round_trip() {
+        for (name, a) in Accel::NAMES
+            .iter()
+            .zip([Accel::Auto, Accel::KdTree, Accel::Bvh])
+        {
+            assert_eq!(Accel::from_name(name), Some(a));
+            assert_eq!(a.name(), *name);
+        }
+        assert_eq!(Accel::from_name("kd-tree"), None);
+        assert_eq!(Accel::from_name(""), None);
+    }
+
+    /// A plane across the shaft (unbounded, listed apart) and balls in it
+    /// and beside it: the listed blockers decide every ray of the grid as
+    /// the whole world does, the plane's rays and the balls' alike.
+    #[test]
+    fn unbounded_and_bounded_blockers_decide_the_rays() {
+        let _watchdog = crate::watchdog::start();
+        let corners = [
+            DVec3::new(-1.0, 6.0, -1.0),
+            DVec3::new(1.0, 6.0, -1.0),
+            DVec3::new(1.0, 6.0, 1.0),
+            DVec3::new(-1.0, 6.0, 1.0),
+        ];
+        let apex = DVec3::new(0.1, 0.0, -0.2);
+        let shaft = Shaft::new(apex, corners).unwrap();
+        for accel in [Accel::KdTree, Accel::Bvh] {
+            // The plane tilted so that it blocks the rays to one side of
+            // the light only; one ball inside the shaft, one beside it.
+            let objects: Vec<Box<dyn Shape>> = vec![
+                Box::new(Sphere::new(DVec3::new(5.0, 3.0, 0.0), 0.5, 0)),
+                Box::new(Plane::new(DVec3::new(1.0, 0.3, 0.0).normalize(), 1.6, 1)),
+                Box::new(Sphere::new(DVec3::new(-0.4, 4.0, 0.3), 0.3, 2)),
+            ];
+            let world = World::build_with(objects, accel);
+            let mut b = world.blockers(&shaft).unwrap();
+            assert_eq!(b.len(), 2, "{accel:?}");
+            let (mut blocked, mut clear) = (0, 0);
+            for i in 0..=20 {
+                for j in 0..=20 {
+                    let y = DVec3::new(-1.0 + 0.1 * i as f64, 6.0, -1.0 + 0.1 * j as f64);
+                    let dist = (y - apex).length() * (1.0 - 1e-4);
+                    let ray = Ray::new(apex, (y - apex) / (y - apex).length());
+                    let want = world.occludes(&ray, 0.0, dist);
+                    assert_eq!(world.occludes_among(&mut b, &ray, 0.0, dist), want);
+                    if want {
+                        blocked += 1;
+                    } else {
+                        clear += 1;
+                    }
+                }
+            }
+            assert!(blocked > 50 && clear > 50, "{blocked} {clear}");
+        }
+    }
+
+    #[test]
     fn more_blockers_than_the_list_holds_send_the_rays_to_the_tree() {
         let _watchdog = crate::watchdog::start();
         let corners = [
