@@ -339,11 +339,14 @@ mod tests {
     }
 
     /// A node at the depth cap is a leaf, however many items it holds
-    /// (the traversal stack is sized for `MAX_BINARY_DEPTH` levels).
+    /// (the traversal stack is sized for `MAX_BINARY_DEPTH` levels); on
+    /// the parallel path (above `PARALLEL_ABOVE` items) as on the other.
     #[test]
     fn the_depth_is_capped() {
         let _watchdog = crate::watchdog::start();
-        let boxes: Vec<Aabb> = (0..1000)
+        const N: u32 = 5000;
+        assert!(N as usize > PARALLEL_ABOVE);
+        let boxes: Vec<Aabb> = (0..N)
             .map(|i| {
                 let p = DVec3::new((i % 10) as f64, (i / 10 % 10) as f64, (i / 100) as f64);
                 Aabb::new(p, p + DVec3::splat(0.5))
@@ -369,7 +372,7 @@ mod tests {
             assert_eq!(depth(&tree), MAX_BINARY_DEPTH - start);
             let mut ids = count(&tree);
             ids.sort();
-            assert_eq!(ids, (0..1000).collect::<Vec<_>>());
+            assert_eq!(ids, (0..N).collect::<Vec<_>>());
         }
     }
 

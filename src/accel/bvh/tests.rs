@@ -492,6 +492,8 @@ fn wide_nodes_are_full_and_their_boxes_hold_what_is_below() {
                 // Padded to whole groups, the padding last.
                 let real = leaf.iter().take_while(|&&i| i != u32::MAX).count();
                 assert!(real > 0 && count == real.div_ceil(params.group) * params.group);
+                // Distinct centres: no leaf past the cap.
+                assert!(real <= params.max_leaf, "a leaf of {real}");
                 for &i in leaf {
                     if i == u32::MAX {
                         continue;
