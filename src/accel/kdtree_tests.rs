@@ -111,3 +111,46 @@ fn rays_in_a_split_plane_see_both_sides() {
     seen.dedup();
     assert_eq!(seen, vec![0, 1]);
 }
+
+/// A ray lying in a face's plane of the tree's own box (the low or the
+/// high face, in each axis) runs along that face: it meets the boxes
+/// touching it. (`Aabb::clip` used to drop the face's NaN slab in favour
+/// of the other plane's ±inf, and the walk saw nothing; the mesh test
+/// `kd_tree_loses_a_ray_along_a_box_face` was this.)
+#[test]
+fn rays_along_the_trees_own_faces_meet_what_touches_them() {
+    let _watchdog = crate::watchdog::start();
+    for axis in 0..3 {
+        let along = (axis + 1) % 3;
+        // A row of unit boxes along `along`, spanning [0, 1] in `axis`.
+        let centres: Vec<DVec3> = (0..20)
+            .map(|i| {
+                let mut c = DVec3::splat(0.5);
+                c[along] = i as f64 * 2.0 + 0.5;
+                c
+            })
+            .collect();
+        let t = KdTree::build(&unit_boxes(&centres));
+        for face in [0.0, 1.0] {
+            let mut o = DVec3::splat(0.5);
+            o[axis] = face;
+            o[along] = -3.0;
+            let mut d = DVec3::ZERO;
+            d[along] = 1.0;
+            let mut seen = Vec::new();
+            t.along_line(&Ray::new(o, d), |i| seen.push(i));
+            seen.sort();
+            seen.dedup();
+            assert_eq!(
+                seen,
+                (0..20).collect::<Vec<u32>>(),
+                "axis {axis}, face {face}"
+            );
+            let hit = t.nearest(&Ray::new(o, d), 0.0, f64::INFINITY, |i, best| {
+                let tt = 3.0 + i as f64 * 2.0;
+                (tt < best).then_some(tt)
+            });
+            assert_eq!(hit, Some(3.0), "axis {axis}, face {face}");
+        }
+    }
+}
