@@ -422,3 +422,65 @@ proptest! {
         }
     }
 }
+
+/// Rays that only touch a box, along one of its edges: they enter by one
+/// axis's plane and leave by another's at the same real t, which `f32`
+/// rounds differently for each axis (3·(1/7) is 3 but 21·(1/7) rounds to
+/// 3 + 2⁻²²), so the entry can come out above the exit; widening both
+/// (the entry down, the exit up) keeps the box, on both paths, whichever
+/// way the ray goes. The cases `(p, q, t)`: the leaving axis's direction
+/// component, the entering one's, and where they touch.
+#[test]
+fn a_ray_touching_an_edge_keeps_the_box() {
+    let _watchdog = crate::watchdog::start();
+    let mut n = Node8::empty();
+    for a in 0..3 {
+        n.lo[a][3] = 0.0;
+        n.hi[a][3] = 1.0;
+    }
+    let mut tried = 0;
+    let cases = [
+        (1.0, 7.0, 3.0),
+        (2.0, 15.0, 5.0),
+        (1.0, 13.0, 7.0),
+        (1.0, 30.0, 10.0),
+        (7.0, 1.0, 3.0),
+    ];
+    for (p, q, t) in cases {
+        for flip in 0..4 {
+            for (first, second) in [(0, 1), (1, 2), (2, 0)] {
+                // Through the point on the edge where `first` = hi and
+                // `second` = lo (flipped: lo, hi) at t, leaving by `first`
+                // and entering by `second`.
+                let (sf, ss) = (
+                    if flip & 1 == 0 { 1.0 } else { -1.0 },
+                    if flip & 2 == 0 { 1.0 } else { -1.0 },
+                );
+                let mut at = [0.5; 3];
+                at[first] = if sf > 0.0 { 1.0 } else { 0.0 };
+                at[second] = if ss > 0.0 { 0.0 } else { 1.0 };
+                let mut d = [0.25; 3];
+                d[first] = sf * p;
+                d[second] = ss * q;
+                let o = [0, 1, 2].map(|a| at[a] - t * d[a]);
+                let (entry, exit) = exact_slabs([0.0; 3], [1.0; 3], o, d, (0.0, f64::INFINITY));
+                assert_eq!((entry, exit), (t, t), "{o:?} {d:?}");
+                let r = BoxRay::new(o, d);
+                let t32 = t as f32;
+                for w in [(0.0, f32::INFINITY), (0.0, t32), (t32, t32)] {
+                    let (mask, near) = node::hits_scalar(&n, &r, w.0, w.1);
+                    assert_eq!(mask, 1 << 3, "scalar: {o:?} {d:?} in {w:?}");
+                    assert!(near[3] <= t32);
+                    #[cfg(target_arch = "x86_64")]
+                    if Simd::avx2_available() {
+                        // SAFETY: the CPU has AVX2 and FMA.
+                        let (mask, _) = unsafe { node::hits_avx2(&n, &r, w.0, w.1) };
+                        assert_eq!(mask, 1 << 3, "avx2: {o:?} {d:?} in {w:?}");
+                    }
+                    tried += 1;
+                }
+            }
+        }
+    }
+    assert_eq!(tried, cases.len() * 4 * 3 * 3);
+}
