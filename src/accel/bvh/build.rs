@@ -416,6 +416,44 @@ mod tests {
         }
     }
 
+    /// Centres one `f32` step apart: the binned plane between them rounds
+    /// onto one of them, so it sends every item to one side; the node is
+    /// then halved by index, down to leaves within the cap.
+    #[test]
+    fn a_plane_that_separates_nothing_halves_the_node() {
+        let _watchdog = crate::watchdog::start();
+        let x1 = 1.0f32.next_up() as f64;
+        let boxes: Vec<Aabb> = (0..10)
+            .map(|i| {
+                let x = if i % 2 == 0 { 1.0 } else { x1 };
+                Aabb::new(DVec3::new(x, 0.0, 0.0), DVec3::new(x, 1.0, 1.0))
+            })
+            .collect();
+        for p in [
+            P,
+            BvhParams {
+                group_cost: 4.0,
+                group: 1,
+                max_leaf: 4,
+            },
+        ] {
+            let tree = binary(&boxes, p).unwrap();
+            assert!(matches!(tree, Binary::Inner { .. }));
+            let mut ids = count(&tree);
+            ids.sort();
+            assert_eq!(ids, (0..10).collect::<Vec<_>>());
+            fn leaves(b: &Binary, out: &mut Vec<usize>) {
+                match b {
+                    Binary::Leaf { items, .. } => out.push(items.len()),
+                    Binary::Inner { children, .. } => children.iter().for_each(|c| leaves(c, out)),
+                }
+            }
+            let mut sizes = Vec::new();
+            leaves(&tree, &mut sizes);
+            assert!(sizes.iter().all(|&s| s <= p.max_leaf), "{sizes:?}");
+        }
+    }
+
     #[test]
     fn empty_boxes_are_left_out() {
         let _watchdog = crate::watchdog::start();
