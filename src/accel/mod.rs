@@ -621,6 +621,33 @@ mod tests {
         assert_eq!(tilted.blockers(&shaft).unwrap().len(), 1);
     }
 
+    /// A ray through the boxes of a long row of balls, missing every
+    /// ball: each index tests them all (the kd-tree's mailbox sees far
+    /// more than it holds) and finds nothing; one a little lower hits the
+    /// first ball.
+    #[test]
+    fn a_ray_past_a_long_row_tests_every_object_and_finds_nothing() {
+        let _watchdog = crate::watchdog::start();
+        for accel in [Accel::KdTree, Accel::Bvh] {
+            let objects: Vec<Box<dyn Shape>> = (0..200)
+                .map(|i| {
+                    let c = DVec3::new(i as f64 * 1.25, 0.0, 0.0);
+                    Box::new(Sphere::new(c, 0.5, i)) as Box<dyn Shape>
+                })
+                .collect();
+            let world = World::build_with(objects, accel);
+            // At 0.45 from the axis in y and z: inside every box, 0.64
+            // from every centre.
+            let past = Ray::new(DVec3::new(-2.0, 0.45, 0.45), DVec3::X);
+            assert!(world.intersect(&past, 0.0, f64::INFINITY).is_none());
+            assert!(!world.occludes(&past, 0.0, f64::INFINITY));
+            let hit = Ray::new(DVec3::new(-2.0, 0.3, 0.0), DVec3::X);
+            let h = world.intersect(&hit, 0.0, f64::INFINITY).unwrap();
+            assert_eq!(h.material, 0);
+            assert!((h.t - (2.0 - (0.25f64 - 0.09).sqrt())).abs() < 1e-12);
+        }
+    }
+
     #[test]
     fn accel_names_round_trip() {
         for (name, a) in Accel::NAMES
