@@ -399,6 +399,12 @@ impl KdTree {
         let mut sp = 0;
         let mut node = 0usize;
         let mut limit = t_max;
+        // Whether the ray lies in a split plane it met (NaN `tp`): both
+        // sides then got the whole segment, so the stack is no longer in
+        // front-to-back order and a hit on one side says nothing about the
+        // other. The walk then ends only when the stack is empty, skipping
+        // the entries that start beyond the limit.
+        let mut in_plane = false;
         loop {
             debug_assert!(node < nodes.len());
             // SAFETY: the builder links only to nodes it pushed.
@@ -428,6 +434,7 @@ impl KdTree {
                 } else {
                     // `max` and `min` drop a NaN `tp`: both sides then get
                     // the whole segment.
+                    in_plane |= tp.is_nan();
                     stack[sp].write((second as u32, tp.max(lo), hi));
                     sp += 1;
                     node = first;
@@ -442,22 +449,28 @@ impl KdTree {
                 // SAFETY: leaves point inside the item list they were built with.
                 let items = unsafe { self.items.get_unchecked(off..off + count) };
                 limit = leaf(items);
-                if limit <= hi {
+                if limit <= hi && (!in_plane || limit == f64::NEG_INFINITY) {
                     return;
                 }
             }
-            if sp == 0 {
-                return;
+            loop {
+                if sp == 0 {
+                    return;
+                }
+                sp -= 1;
+                // SAFETY: slots below `sp` were written by a push.
+                let (nn, l, h) = unsafe { stack[sp].assume_init() };
+                if l > limit {
+                    if in_plane {
+                        continue;
+                    }
+                    return;
+                }
+                node = nn as usize;
+                lo = l;
+                hi = h;
+                break;
             }
-            sp -= 1;
-            // SAFETY: slots below `sp` were written by a push.
-            let (nn, l, h) = unsafe { stack[sp].assume_init() };
-            if l > limit {
-                return;
-            }
-            node = nn as usize;
-            lo = l;
-            hi = h;
         }
     }
 }

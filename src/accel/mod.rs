@@ -542,14 +542,26 @@ mod tests {
             (s >> 11) as f64 / (1u64 << 53) as f64
         };
         // Small spheres in a 10-wide box above a floor; lights over them.
-        let mut objects: Vec<Box<dyn Shape>> = (0..60)
-            .map(|i| {
+        let balls: Vec<(DVec3, f64)> = (0..60)
+            .map(|_| {
                 let c = DVec3::new(rnd() * 10.0 - 5.0, rnd() * 4.0, rnd() * 10.0 - 5.0);
-                Box::new(Sphere::new(c, 0.1 + 0.3 * rnd(), i)) as Box<dyn Shape>
+                (c, 0.1 + 0.3 * rnd())
             })
             .collect();
-        objects.push(Box::new(Plane::new(DVec3::Y, -0.5, 999)));
-        let world = World::build(objects);
+        // Both indexes find the blockers (each its own box query).
+        for accel in [Accel::KdTree, Accel::Bvh] {
+            let mut objects: Vec<Box<dyn Shape>> = balls
+                .iter()
+                .enumerate()
+                .map(|(i, &(c, r))| Box::new(Sphere::new(c, r, i as u32)) as Box<dyn Shape>)
+                .collect();
+            objects.push(Box::new(Plane::new(DVec3::Y, -0.5, 999)));
+            let world = World::build_with(objects, accel);
+            blockers_decide_every_ray(&world, &mut rnd);
+        }
+    }
+
+    fn blockers_decide_every_ray(world: &World, rnd: &mut impl FnMut() -> f64) {
         let (mut used, mut empty, mut blocked, mut clear) = (0, 0, 0, 0);
         for _ in 0..400 {
             let apex = DVec3::new(rnd() * 10.0 - 5.0, rnd() * 4.0 - 0.4, rnd() * 10.0 - 5.0);
@@ -588,6 +600,7 @@ mod tests {
 
     #[test]
     fn a_floor_below_the_shaft_is_no_blocker_and_one_across_it_is() {
+        let _watchdog = crate::watchdog::start();
         let corners = [
             DVec3::new(-1.0, 6.0, -1.0),
             DVec3::new(1.0, 6.0, -1.0),
@@ -608,15 +621,93 @@ mod tests {
         assert_eq!(tilted.blockers(&shaft).unwrap().len(), 1);
     }
 
+    /// A ray through the boxes of a long row of balls, missing every
+    /// ball: each index tests them all (the kd-tree's mailbox sees far
+    /// more than it holds) and finds nothing; one a little lower hits the
+    /// first ball.
+    #[test]
+    fn a_ray_past_a_long_row_tests_every_object_and_finds_nothing() {
+        let _watchdog = crate::watchdog::start();
+        for accel in [Accel::KdTree, Accel::Bvh] {
+            let objects: Vec<Box<dyn Shape>> = (0..200)
+                .map(|i| {
+                    let c = DVec3::new(i as f64 * 1.25, 0.0, 0.0);
+                    Box::new(Sphere::new(c, 0.5, i)) as Box<dyn Shape>
+                })
+                .collect();
+            let world = World::build_with(objects, accel);
+            // At 0.45 from the axis in y and z: inside every box, 0.64
+            // from every centre.
+            let past = Ray::new(DVec3::new(-2.0, 0.45, 0.45), DVec3::X);
+            assert!(world.intersect(&past, 0.0, f64::INFINITY).is_none());
+            assert!(!world.occludes(&past, 0.0, f64::INFINITY));
+            let hit = Ray::new(DVec3::new(-2.0, 0.3, 0.0), DVec3::X);
+            let h = world.intersect(&hit, 0.0, f64::INFINITY).unwrap();
+            assert_eq!(h.material, 0);
+            assert!((h.t - (2.0 - (0.25f64 - 0.09).sqrt())).abs() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn accel_names_round_trip() {
+        for (name, a) in Accel::NAMES
+            .iter()
+            .zip([Accel::Auto, Accel::KdTree, Accel::Bvh])
+        {
+            assert_eq!(Accel::from_name(name), Some(a));
+            assert_eq!(a.name(), *name);
+        }
+        assert_eq!(Accel::from_name("kd-tree"), None);
+        assert_eq!(Accel::from_name(""), None);
+    }
+
+    /// A plane across the shaft (unbounded, listed apart) and balls in it
+    /// and beside it: the listed blockers decide every ray of the grid as
+    /// the whole world does, the plane's rays and the balls' alike.
+    #[test]
+    fn unbounded_and_bounded_blockers_decide_the_rays() {
+        let _watchdog = crate::watchdog::start();
+        let corners = [
+            DVec3::new(-1.0, 6.0, -1.0),
+            DVec3::new(1.0, 6.0, -1.0),
+            DVec3::new(1.0, 6.0, 1.0),
+            DVec3::new(-1.0, 6.0, 1.0),
+        ];
+        let apex = DVec3::new(0.1, 0.0, -0.2);
+        let shaft = Shaft::new(apex, corners).unwrap();
+        for accel in [Accel::KdTree, Accel::Bvh] {
+            // The plane tilted so that it blocks the rays to one side of
+            // the light only; one ball inside the shaft, one beside it.
+            let objects: Vec<Box<dyn Shape>> = vec![
+                Box::new(Sphere::new(DVec3::new(5.0, 3.0, 0.0), 0.5, 0)),
+                Box::new(Plane::new(DVec3::new(1.0, 0.3, 0.0).normalize(), 1.6, 1)),
+                Box::new(Sphere::new(DVec3::new(-0.4, 4.0, 0.3), 0.3, 2)),
+            ];
+            let world = World::build_with(objects, accel);
+            let mut b = world.blockers(&shaft).unwrap();
+            assert_eq!(b.len(), 2, "{accel:?}");
+            let (mut blocked, mut clear) = (0, 0);
+            for i in 0..=20 {
+                for j in 0..=20 {
+                    let y = DVec3::new(-1.0 + 0.1 * i as f64, 6.0, -1.0 + 0.1 * j as f64);
+                    let dist = (y - apex).length() * (1.0 - 1e-4);
+                    let ray = Ray::new(apex, (y - apex) / (y - apex).length());
+                    let want = world.occludes(&ray, 0.0, dist);
+                    assert_eq!(world.occludes_among(&mut b, &ray, 0.0, dist), want);
+                    if want {
+                        blocked += 1;
+                    } else {
+                        clear += 1;
+                    }
+                }
+            }
+            assert!(blocked > 50 && clear > 50, "{blocked} {clear}");
+        }
+    }
+
     #[test]
     fn more_blockers_than_the_list_holds_send_the_rays_to_the_tree() {
-        let objects: Vec<Box<dyn Shape>> = (0..Blockers::MAX + 1)
-            .map(|i| {
-                let c = DVec3::new(0.0, 1.0 + 0.5 * i as f64, 0.0);
-                Box::new(Sphere::new(c, 0.1, i as u32)) as Box<dyn Shape>
-            })
-            .collect();
-        let world = World::build(objects);
+        let _watchdog = crate::watchdog::start();
         let corners = [
             DVec3::new(-1.0, 6.0, -1.0),
             DVec3::new(1.0, 6.0, -1.0),
@@ -624,6 +715,19 @@ mod tests {
             DVec3::new(-1.0, 6.0, 1.0),
         ];
         let shaft = Shaft::new(DVec3::ZERO, corners).unwrap();
-        assert!(world.blockers(&shaft).is_none());
+        for n in [Blockers::MAX, Blockers::MAX + 1] {
+            for accel in [Accel::KdTree, Accel::Bvh] {
+                let objects: Vec<Box<dyn Shape>> = (0..n)
+                    .map(|i| {
+                        let c = DVec3::new(0.0, 1.0 + 0.5 * i as f64, 0.0);
+                        Box::new(Sphere::new(c, 0.1, i as u32)) as Box<dyn Shape>
+                    })
+                    .collect();
+                let world = World::build_with(objects, accel);
+                let found = world.blockers(&shaft);
+                // As many as the list holds are listed; one more, none.
+                assert_eq!(found.map(|b| b.len()), (n == Blockers::MAX).then_some(n));
+            }
+        }
     }
 }

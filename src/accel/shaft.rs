@@ -163,6 +163,7 @@ mod tests {
 
     #[test]
     fn boxes_on_the_way_meet_it_and_boxes_beside_it_do_not() {
+        let _watchdog = crate::watchdog::start();
         let s = shaft(DVec3::ZERO);
         assert!(s.may_meet(&unit_box(DVec3::new(0.0, 3.0, 0.0), 0.1)));
         // Touching the pyramid's side from outside by a little: the side
@@ -178,6 +179,7 @@ mod tests {
 
     #[test]
     fn the_light_itself_lies_outside_and_a_box_just_below_it_inside() {
+        let _watchdog = crate::watchdog::start();
         let s = shaft(DVec3::ZERO);
         let light = Aabb::new(DVec3::new(-1.0, 6.0, -1.0), DVec3::new(1.0, 6.0, 1.0));
         assert!(!s.may_meet(&light));
@@ -187,6 +189,7 @@ mod tests {
 
     #[test]
     fn every_ray_to_the_light_stays_inside() {
+        let _watchdog = crate::watchdog::start();
         // Points of each ray (to the light less SHADOW_EPSILON) as tiny
         // boxes: the test must keep every one.
         let apex = DVec3::new(0.3, 0.01, 2.0);
@@ -202,8 +205,96 @@ mod tests {
         }
     }
 
+    /// Random lights (parallelograms in any orientation) seen from random
+    /// points: every box holding a point of a shadow ray (to the light
+    /// less `SHADOW_EPSILON`) is kept, straddling a face or not, whatever
+    /// the signs of the faces' normals; a box clearly beyond one face is
+    /// not, and neither is one beside the pyramid's box.
+    #[test]
+    fn boxes_on_any_ray_are_kept_and_boxes_outside_a_face_are_not() {
+        let _watchdog = crate::watchdog::start();
+        let mut seed = 0x5ba1_7e57_u64;
+        let mut rnd = move || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let v = |s: f64, rnd: &mut dyn FnMut() -> f64| {
+            DVec3::new(rnd() * 2.0 - 1.0, rnd() * 2.0 - 1.0, rnd() * 2.0 - 1.0) * s
+        };
+        let (mut kept, mut culled) = (0, 0);
+        for _ in 0..300 {
+            let apex = v(5.0, &mut rnd);
+            let corner = v(5.0, &mut rnd) + DVec3::new(0.0, 0.0, 8.0) * (rnd() - 0.5);
+            let (eu, ev) = (v(2.0, &mut rnd), v(2.0, &mut rnd));
+            let corners = [corner, corner + eu, corner + eu + ev, corner + ev];
+            let Some(s) = Shaft::new(apex, corners) else {
+                continue;
+            };
+            for _ in 0..20 {
+                let (a, b, k) = (rnd(), rnd(), rnd());
+                let y = corner + a * eu + b * ev;
+                let p = apex + (y - apex) * k * (1.0 - 1e-4);
+                // A box around a point of the ray, off-centre by a random
+                // amount in each axis (so it straddles the faces near it).
+                let (lo, hi) = (v(0.3, &mut rnd).abs(), v(0.3, &mut rnd).abs());
+                let b = Aabb::new(p - lo, p + hi);
+                assert!(s.may_meet(&b), "{b:?} holds {p} of a ray from {apex}");
+                assert!(s.may_meet(&Aabb::new(p, p)));
+                kept += 1;
+            }
+            // Boxes beyond each face: around a point of the face's plane
+            // inside the face, pushed out along its normal by more than
+            // the box's half-diagonal.
+            let vs = s.vertices();
+            let faces = [
+                [vs[0], vs[1], vs[2]],
+                [vs[0], vs[2], vs[3]],
+                [vs[0], vs[3], vs[4]],
+                [vs[0], vs[4], vs[1]],
+                [vs[1], vs[2], vs[3]],
+            ];
+            for (k, f) in faces.iter().enumerate() {
+                let c = (f[0] + f[1] + f[2]) / 3.0;
+                let (n, d) = s.planes[k];
+                assert!((n.dot(c) - d).abs() < 1e-9 * (1.0 + c.abs().max_element()));
+                let r = 0.01 * (f[1] - f[0]).length().min((f[2] - f[0]).length());
+                let out = Aabb::new(c - DVec3::splat(r), c + DVec3::splat(r));
+                let shifted = |t: f64| Aabb {
+                    min: out.min + n * t,
+                    max: out.max + n * t,
+                };
+                assert!(
+                    !s.may_meet(&shifted(2.0 * r)),
+                    "face {k}: a box beyond it kept"
+                );
+                // Straddling the face inside it: kept.
+                assert!(s.may_meet(&out), "face {k}: a box across it culled");
+                culled += 1;
+            }
+            // Beside the pyramid's box, on each side.
+            let bb = s.bounds();
+            let size = bb.max - bb.min;
+            for a in 0..3 {
+                for sign in [-1.0, 1.0] {
+                    let mut shift = DVec3::ZERO;
+                    shift[a] = sign * (size[a] + 1.0);
+                    let b = Aabb {
+                        min: bb.min + shift,
+                        max: bb.max + shift,
+                    };
+                    assert!(!s.may_meet(&b));
+                }
+            }
+        }
+        assert!(kept > 3000 && culled > 700, "{kept} {culled}");
+        assert!(!shaft(DVec3::ZERO).may_meet(&Aabb::EMPTY));
+    }
+
     #[test]
     fn an_apex_in_the_lights_plane_gives_no_shaft() {
+        let _watchdog = crate::watchdog::start();
         let corners = [
             DVec3::new(-1.0, 6.0, -1.0),
             DVec3::new(1.0, 6.0, -1.0),

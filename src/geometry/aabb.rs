@@ -78,15 +78,18 @@ impl Aabb {
 
     /// The parametric interval where the ray is inside the box, clipped to
     /// `[t_min, t_max]`; slab test. Zero direction components give ±inf
-    /// reciprocals, which the min/max ordering handles (NaN from 0·inf only
-    /// occurs for rays lying in a slab plane and is treated as a miss-free pass
-    /// by `f64::max`/`min`, which ignore NaN).
+    /// reciprocals, which the min/max ordering handles. A ray lying in a
+    /// face's plane (a zero component, the origin on that face) gives
+    /// 0·inf = NaN for that plane: it is inside that slab along its whole
+    /// length. (Left to `min`/`max`, the NaN would be dropped in favour of
+    /// the other plane's ±inf, and the ray lost.)
     pub fn clip(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<(f64, f64)> {
         let inv = ray.dir.recip();
         let t0 = (self.min - ray.origin) * inv;
         let t1 = (self.max - ray.origin) * inv;
-        let near = t0.min(t1);
-        let far = t0.max(t1);
+        let in_plane = t0.is_nan_mask() | t1.is_nan_mask();
+        let near = DVec3::select(in_plane, DVec3::NEG_INFINITY, t0.min(t1));
+        let far = DVec3::select(in_plane, DVec3::INFINITY, t0.max(t1));
         let lo = t_min.max(near.x).max(near.y).max(near.z);
         let hi = t_max.min(far.x).min(far.y).min(far.z);
         (lo <= hi).then_some((lo, hi))
@@ -191,6 +194,33 @@ mod tests {
         let flat = Aabb::new(DVec3::new(0.0, -1.0, -1.0), DVec3::new(0.0, 1.0, 1.0));
         let across = Ray::new(DVec3::new(-3.0, 0.2, 0.1), DVec3::X);
         assert_eq!(flat.clip(&across, 0.0, f64::INFINITY), Some((3.0, 3.0)));
+        // Rays lying in a face's plane, on the low or the high face of each
+        // axis (either sign of zero), run along the face: inside from
+        // where they cross the other slabs; one beside the face misses.
+        for axis in 0..3 {
+            let along = (axis + 1) % 3;
+            for (face, zero) in [(-1.0, 0.0), (1.0, 0.0), (-1.0, -0.0), (1.0, -0.0)] {
+                let mut o = DVec3::splat(0.25);
+                o[axis] = face;
+                o[along] = -4.0;
+                let mut d = DVec3::ZERO;
+                d[axis] = zero;
+                d[along] = 2.0;
+                let r = Ray::new(o, d);
+                assert_eq!(b.clip(&r, 0.0, f64::INFINITY), Some((1.5, 2.5)), "{r:?}");
+                assert_eq!(flat_in(axis, face).clip(&r, 0.0, 2.0), Some((1.5, 2.0)));
+                o[axis] = face * 1.5;
+                assert_eq!(b.clip(&Ray::new(o, d), 0.0, f64::INFINITY), None);
+            }
+        }
+    }
+
+    /// The face of the 2-wide cube in the plane `axis = c`, as a flat box.
+    fn flat_in(axis: usize, c: f64) -> Aabb {
+        let (mut lo, mut hi) = (DVec3::splat(-1.0), DVec3::splat(1.0));
+        lo[axis] = c;
+        hi[axis] = c;
+        Aabb::new(lo, hi)
     }
 
     #[test]

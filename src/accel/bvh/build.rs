@@ -291,6 +291,7 @@ mod tests {
 
     #[test]
     fn every_item_once_and_boxes_nest() {
+        let _watchdog = crate::watchdog::start();
         fn check(b: &Binary) {
             if let Binary::Inner { bounds, children } = b {
                 for c in children.iter() {
@@ -315,6 +316,7 @@ mod tests {
 
     #[test]
     fn identical_boxes_split_by_index_down_to_the_cap() {
+        let _watchdog = crate::watchdog::start();
         let boxes = vec![Aabb::new(DVec3::ZERO, DVec3::ONE); 100];
         let tree = binary(&boxes, P).unwrap();
         fn leaves(b: &Binary, out: &mut Vec<usize>) {
@@ -329,8 +331,132 @@ mod tests {
         assert!(sizes.iter().all(|&s| s <= 8), "{sizes:?}");
     }
 
+    fn depth(b: &Binary) -> usize {
+        match b {
+            Binary::Leaf { .. } => 0,
+            Binary::Inner { children, .. } => 1 + depth(&children[0]).max(depth(&children[1])),
+        }
+    }
+
+    /// A node at the depth cap is a leaf, however many items it holds
+    /// (the traversal stack is sized for `MAX_BINARY_DEPTH` levels); on
+    /// the parallel path (above `PARALLEL_ABOVE` items) as on the other.
+    #[test]
+    fn the_depth_is_capped() {
+        let _watchdog = crate::watchdog::start();
+        const N: u32 = 5000;
+        assert!(N as usize > PARALLEL_ABOVE);
+        let boxes: Vec<Aabb> = (0..N)
+            .map(|i| {
+                let p = DVec3::new((i % 10) as f64, (i / 10 % 10) as f64, (i / 100) as f64);
+                Aabb::new(p, p + DVec3::splat(0.5))
+            })
+            .collect();
+        let items: Vec<Item> = boxes
+            .iter()
+            .enumerate()
+            .map(|(i, b)| {
+                let b = Box32 {
+                    lo: b.min.to_array().map(round_down),
+                    hi: b.max.to_array().map(round_up),
+                };
+                Item {
+                    id: i as u32,
+                    b,
+                    c: [0, 1, 2].map(|a| 0.5 * b.lo[a] + 0.5 * b.hi[a]),
+                }
+            })
+            .collect();
+        for start in [MAX_BINARY_DEPTH - 2, MAX_BINARY_DEPTH] {
+            let tree = node(items.clone(), P, start);
+            assert_eq!(depth(&tree), MAX_BINARY_DEPTH - start);
+            let mut ids = count(&tree);
+            ids.sort();
+            assert_eq!(ids, (0..N).collect::<Vec<_>>());
+        }
+    }
+
+    /// Centres spread geometrically (a lopsided tree): every item is kept
+    /// and the wide walk along the row meets every one.
+    #[test]
+    fn a_lopsided_row_is_walked_whole() {
+        let _watchdog = crate::watchdog::start();
+        let boxes: Vec<Aabb> = (0..300)
+            .map(|i| {
+                let x = 1.3f64.powi(i);
+                Aabb::new(DVec3::new(x, 0.0, 0.0), DVec3::new(x * 1.01, 1.0, 1.0))
+            })
+            .collect();
+        for p in [
+            P,
+            BvhParams {
+                group_cost: 4.0,
+                group: 1,
+                max_leaf: 4,
+            },
+        ] {
+            let tree = binary(&boxes, p).unwrap();
+            assert!(depth(&tree) <= MAX_BINARY_DEPTH);
+            let mut ids = count(&tree);
+            ids.sort();
+            assert_eq!(ids, (0..300).collect::<Vec<_>>());
+            let bvh = super::super::Bvh::build(&boxes, p);
+            let ray = crate::geometry::Ray::new(DVec3::new(-1.0, 0.5, 0.5), DVec3::X);
+            let mut met: Vec<u32> = Vec::new();
+            bvh.walk(&ray, 0.0, f64::INFINITY, |first, n, limit| {
+                met.extend(
+                    bvh.items()[first..first + n]
+                        .iter()
+                        .filter(|&&i| i != u32::MAX),
+                );
+                limit
+            });
+            met.sort();
+            assert_eq!(met, (0..300).collect::<Vec<_>>());
+        }
+    }
+
+    /// Centres one `f32` step apart: the binned plane between them rounds
+    /// onto one of them, so it sends every item to one side; the node is
+    /// then halved by index, down to leaves within the cap.
+    #[test]
+    fn a_plane_that_separates_nothing_halves_the_node() {
+        let _watchdog = crate::watchdog::start();
+        let x1 = 1.0f32.next_up() as f64;
+        let boxes: Vec<Aabb> = (0..10)
+            .map(|i| {
+                let x = if i % 2 == 0 { 1.0 } else { x1 };
+                Aabb::new(DVec3::new(x, 0.0, 0.0), DVec3::new(x, 1.0, 1.0))
+            })
+            .collect();
+        for p in [
+            P,
+            BvhParams {
+                group_cost: 4.0,
+                group: 1,
+                max_leaf: 4,
+            },
+        ] {
+            let tree = binary(&boxes, p).unwrap();
+            assert!(matches!(tree, Binary::Inner { .. }));
+            let mut ids = count(&tree);
+            ids.sort();
+            assert_eq!(ids, (0..10).collect::<Vec<_>>());
+            fn leaves(b: &Binary, out: &mut Vec<usize>) {
+                match b {
+                    Binary::Leaf { items, .. } => out.push(items.len()),
+                    Binary::Inner { children, .. } => children.iter().for_each(|c| leaves(c, out)),
+                }
+            }
+            let mut sizes = Vec::new();
+            leaves(&tree, &mut sizes);
+            assert!(sizes.iter().all(|&s| s <= p.max_leaf), "{sizes:?}");
+        }
+    }
+
     #[test]
     fn empty_boxes_are_left_out() {
+        let _watchdog = crate::watchdog::start();
         assert!(binary(&[Aabb::EMPTY], P).is_none());
         let t = binary(&[Aabb::EMPTY, Aabb::new(DVec3::ZERO, DVec3::ONE)], P).unwrap();
         assert_eq!(count(&t), vec![1]);

@@ -14,6 +14,8 @@
 mod build;
 mod node;
 #[cfg(test)]
+mod node_tests;
+#[cfg(test)]
 pub(crate) mod tests;
 pub mod triangles;
 
@@ -41,13 +43,21 @@ impl Simd {
     pub fn detect() -> Simd {
         static CHOSEN: std::sync::OnceLock<Simd> = std::sync::OnceLock::new();
         *CHOSEN.get_or_init(|| {
-            let forced = std::env::var("RAYTRACE_SIMD").is_ok_and(|v| v == "scalar");
-            if !forced && Self::avx2_available() {
-                Simd::Avx2
-            } else {
-                Simd::Scalar
-            }
+            let asked = std::env::var("RAYTRACE_SIMD").ok();
+            Self::choose(asked.as_deref(), Self::avx2_available())
         })
+    }
+
+    /// The path for `RAYTRACE_SIMD`'s value (`asked`) on a CPU that has
+    /// AVX2 and FMA (`avx2`) or not: AVX2 where there is one, unless
+    /// asked for `scalar`.
+    fn choose(asked: Option<&str>, avx2: bool) -> Simd {
+        let forced = asked == Some("scalar");
+        if !forced && avx2 {
+            Simd::Avx2
+        } else {
+            Simd::Scalar
+        }
     }
 
     pub fn avx2_available() -> bool {

@@ -71,15 +71,31 @@ fn check_all(tris: &[Tri], rays: &[(Ray, f64, f64)]) -> Result<(), String> {
     for (ray, t_min, t_max) in rays {
         let want = brute(tris, ray, *t_min, *t_max);
         let s = ShearedRay::new(ray);
+        // The window as given, and windows ending or starting exactly at
+        // the nearest hit (both ends are open: the hit is then outside).
+        // Not at a hit within rounding of the origin (a ray leaving a
+        // surface meets it again at t ≈ 1e-18, where the box, exact for
+        // the real ray, rightly sees t = 0 and no window above 0 can
+        // promise to find it).
+        let mut windows = vec![(*t_min, *t_max)];
+        if let Some((th, _)) = want.filter(|w| w.0 > 1e-6) {
+            windows.push((*t_min, th));
+            windows.push((th, *t_max));
+            windows.push((th.next_down(), th.next_up()));
+        }
         for b in &bvhs {
-            let got = b.nearest(ray, &s, *t_min, *t_max);
-            same_hit(tris, ray, got, want)
-                .map_err(|e| format!("{:?} bvh, ray {ray:?}: {e}", b.bvh.simd))?;
-            if b.any(ray, &s, *t_min, *t_max) != want.is_some() {
-                return Err(format!(
-                    "{:?} any-hit disagrees with nearest {want:?}",
-                    b.bvh.simd
-                ));
+            for &(lo, hi) in &windows {
+                let want = brute(tris, ray, lo, hi);
+                let got = b.nearest(ray, &s, lo, hi);
+                same_hit(tris, ray, got, want).map_err(|e| {
+                    format!("{:?} bvh, ray {ray:?} in ({lo}, {hi}): {e}", b.bvh.simd)
+                })?;
+                if b.any(ray, &s, lo, hi) != want.is_some() {
+                    return Err(format!(
+                        "{:?} any-hit in ({lo}, {hi}) disagrees with nearest {want:?}",
+                        b.bvh.simd
+                    ));
+                }
             }
             let mut line: Vec<u32> = Vec::new();
             b.along_line(ray, &s, |_, i| line.push(i));
@@ -143,20 +159,23 @@ pub(crate) fn triangle() -> impl Strategy<Value = Tri> {
     ]
 }
 
-/// Directions: general, or with one or two components zero (parallel to
-/// the flat triangles' planes).
+/// Directions: general, or with any one or two components zero (parallel
+/// to the flat triangles' planes, or along an axis), of either sign.
 pub(crate) fn direction() -> impl Strategy<Value = DVec3> {
-    (point(), 0u8..4).prop_map(|(d, zero)| {
+    (point(), 0u8..12, any::<bool>()).prop_map(|(d, zero, neg)| {
         let mut d = d;
-        match zero {
-            1 => d.x = 0.0,
-            2 => {
-                d.y = 0.0;
-                d.z = 0.0;
+        let z = if neg { -0.0 } else { 0.0 };
+        for a in 0..3 {
+            // 0..7: that subset of the axes zeroed; 8..11: none.
+            if zero < 8 && zero & (1 << a) != 0 {
+                d[a] = z;
             }
-            _ => {}
         }
-        if d == DVec3::ZERO { DVec3::Z } else { d }
+        if d.x == 0.0 && d.y == 0.0 && d.z == 0.0 {
+            DVec3::Z
+        } else {
+            d
+        }
     })
 }
 
@@ -169,6 +188,7 @@ proptest! {
         rays in prop::collection::vec((point(), direction()), 1..40),
         on_surface in prop::collection::vec((0usize..80, 0.0f64..1.0, 0.0f64..1.0, direction()), 0..20),
     ) {
+        let _watchdog = crate::watchdog::start();
         let mut all: Vec<(Ray, f64, f64)> = rays
             .iter()
             .map(|&(o, d)| (Ray::new(o * 2.0, d), 0.0, f64::INFINITY))
@@ -187,6 +207,7 @@ proptest! {
 
 #[test]
 fn one_triangle() {
+    let _watchdog = crate::watchdog::start();
     let tris = [[DVec3::ZERO, DVec3::X, DVec3::Y]];
     let b = TriangleBvh::build(&tris);
     assert_eq!(b.stats().leaves, 1);
@@ -203,6 +224,7 @@ fn one_triangle() {
 
 #[test]
 fn no_triangles_and_only_degenerate_ones() {
+    let _watchdog = crate::watchdog::start();
     let ray = Ray::new(DVec3::new(0.1, 0.1, 1.0), -DVec3::Z);
     let s = ShearedRay::new(&ray);
     let b = TriangleBvh::build(&[]);
@@ -214,6 +236,7 @@ fn no_triangles_and_only_degenerate_ones() {
 
 #[test]
 fn identical_triangles_all_found() {
+    let _watchdog = crate::watchdog::start();
     let t = [DVec3::ZERO, DVec3::X, DVec3::Y];
     let tris = vec![t; 1000];
     for b in paths(&tris) {
@@ -232,6 +255,7 @@ fn identical_triangles_all_found() {
 
 #[test]
 fn huge_and_tiny_coordinates() {
+    let _watchdog = crate::watchdog::start();
     for scale in [1e-30, 1e-8, 1.0, 1e8, 1e30] {
         let tris: Vec<Tri> = (0..50)
             .map(|i| {
@@ -260,6 +284,7 @@ fn huge_and_tiny_coordinates() {
 
 #[test]
 fn the_box_test_is_conservative_at_grazing_angles() {
+    let _watchdog = crate::watchdog::start();
     // Thin triangles met edge-on and rays barely tilted off an axis: the
     // f32 boxes must never lose what the f64 test finds.
     let mut tris = Vec::new();
@@ -303,6 +328,7 @@ fn the_box_test_is_conservative_at_grazing_angles() {
 /// padding, and stops when told to.
 #[test]
 fn overlapping_finds_every_box_that_meets_the_query() {
+    let _watchdog = crate::watchdog::start();
     let mut seed = 0x5eed_u64;
     let mut next = move || {
         seed = seed
@@ -355,5 +381,242 @@ fn overlapping_finds_every_box_that_meets_the_query() {
             visits < 3
         }));
         assert_eq!(visits, 3);
+    }
+}
+
+/// Both paths run here where the CPU has AVX2 (and the scalar one always).
+#[test]
+fn the_tests_run_both_paths() {
+    let _watchdog = crate::watchdog::start();
+    let tris = [[DVec3::ZERO, DVec3::X, DVec3::Y]];
+    let got: Vec<Simd> = paths(&tris).iter().map(|b| b.bvh.simd()).collect();
+    if Simd::avx2_available() {
+        assert_eq!(got, [Simd::Scalar, Simd::Avx2]);
+    } else {
+        assert_eq!(got, [Simd::Scalar]);
+    }
+}
+
+/// Of several triangles crossed at the same t, the nearest hit is the
+/// first met: the first in leaf order (`items()`), on both paths.
+#[test]
+fn of_equal_hits_the_first_in_leaf_order_wins() {
+    let _watchdog = crate::watchdog::start();
+    let t = [DVec3::ZERO, DVec3::X, DVec3::Y];
+    for n in [2, 3, 5, 8] {
+        let tris = vec![t; n];
+        for b in paths(&tris) {
+            let first = b.bvh.items()[0];
+            let ray = Ray::new(DVec3::new(0.25, 0.25, 2.0), -DVec3::Z);
+            let s = ShearedRay::new(&ray);
+            assert_eq!(
+                b.nearest(&ray, &s, 0.0, f64::INFINITY),
+                Some((2.0, first)),
+                "{n} copies, {:?}",
+                b.bvh.simd()
+            );
+        }
+    }
+}
+
+/// The mesh's box is the box of every corner, exactly.
+#[test]
+fn bounds_hold_every_corner() {
+    let _watchdog = crate::watchdog::start();
+    let tris: Vec<Tri> = (0..40)
+        .map(|i| {
+            let f = i as f64;
+            [
+                DVec3::new(f * 0.3 - 2.0, (f * 0.7).sin(), 0.1),
+                DVec3::new(f * 0.1, -f * 0.05, (f * 0.2).cos() * 3.0),
+                DVec3::new(-f, 0.5, f * 0.01 - 1.0),
+            ]
+        })
+        .collect();
+    let want = tris
+        .iter()
+        .fold(Aabb::EMPTY, |b, t| b.grow(t[0]).grow(t[1]).grow(t[2]));
+    let b = TriangleBvh::build(&tris);
+    assert_eq!(b.bounds(), want);
+    assert_eq!(b.bvh.bounds(), want);
+    // Degenerate triangles have boxes too; empty input has none.
+    assert!(TriangleBvh::build(&[]).bounds().is_empty());
+}
+
+/// The collapse opens inner children until a wide node holds eight: a
+/// node with fewer holds only leaves. Every slot used has a box around
+/// what is below it, and every item is in exactly one leaf.
+#[test]
+fn wide_nodes_are_full_and_their_boxes_hold_what_is_below() {
+    let _watchdog = crate::watchdog::start();
+    let boxes: Vec<Aabb> = (0..3000)
+        .map(|i| {
+            let p = DVec3::new(
+                (i % 17) as f64,
+                (i / 17 % 13) as f64,
+                (i / 221) as f64 * 1.5,
+            );
+            Aabb::new(p, p + DVec3::new(0.4, 0.7, 0.2))
+        })
+        .collect();
+    for params in [TRIANGLES, crate::accel::OBJECTS] {
+        let bvh = Bvh::build(&boxes, params);
+        assert!(bvh.nodes.len() > 10);
+        let mut seen = vec![0u32; boxes.len()];
+        // (node, the box its parent stores for it)
+        let mut todo = vec![(0usize, None::<Aabb>)];
+        while let Some((at, parent)) = todo.pop() {
+            let n = &bvh.nodes[at];
+            let mut used = 0;
+            let mut inner = 0;
+            let mut around = Aabb::EMPTY;
+            for k in 0..8 {
+                let b = Aabb::new(
+                    DVec3::new(n.lo[0][k] as f64, n.lo[1][k] as f64, n.lo[2][k] as f64),
+                    DVec3::new(n.hi[0][k] as f64, n.hi[1][k] as f64, n.hi[2][k] as f64),
+                );
+                if n.lo[0][k] > n.hi[0][k] {
+                    continue;
+                }
+                used += 1;
+                around = around.union(&b);
+                let child = n.child[k];
+                if child & LEAF == 0 {
+                    inner += 1;
+                    todo.push((child as usize, Some(b)));
+                    continue;
+                }
+                let first = (child & !LEAF) as usize;
+                let count = n.count[k] as usize;
+                let leaf = &bvh.items[first..first + count];
+                // Padded to whole groups, the padding last.
+                let real = leaf.iter().take_while(|&&i| i != u32::MAX).count();
+                assert!(real > 0 && count == real.div_ceil(params.group) * params.group);
+                // Distinct centres: no leaf past the cap.
+                assert!(real <= params.max_leaf, "a leaf of {real}");
+                for &i in leaf {
+                    if i == u32::MAX {
+                        continue;
+                    }
+                    seen[i as usize] += 1;
+                    let ib = boxes[i as usize];
+                    assert_eq!(b.union(&ib), b, "item {i} outside its leaf's box");
+                }
+            }
+            assert!(
+                inner == 0 || used == 8,
+                "node {at}: {used} slots, {inner} inner"
+            );
+            if let Some(p) = parent {
+                assert_eq!(p.union(&around), p, "node {at} outside its box");
+            }
+        }
+        assert!(
+            seen.iter().all(|&c| c == 1),
+            "an item not in exactly one leaf"
+        );
+    }
+}
+
+/// The traversal stack holds the deepest walk the build allows: a path of
+/// `MAX_BINARY_DEPTH` wide nodes, each with eight children crossing the
+/// ray, the inner one entered first (so seven wait at every level).
+#[test]
+fn the_stack_holds_the_deepest_walk() {
+    let _watchdog = crate::watchdog::start();
+    let depth = build::MAX_BINARY_DEPTH;
+    let mut nodes = Vec::new();
+    for level in 0..depth {
+        let mut n = Node8::empty();
+        for k in 0..8 {
+            // Leaves span x in [0, 1]; the inner child from -1, so it is
+            // entered first.
+            let inner = k == 0 && level + 1 < depth;
+            n.lo[0][k] = if inner { -1.0 } else { 0.0 };
+            n.hi[0][k] = 1.0;
+            for a in 1..3 {
+                n.lo[a][k] = -1.0;
+                n.hi[a][k] = 1.0;
+            }
+            n.child[k] = if inner {
+                (level + 1) as u32
+            } else {
+                LEAF | (8 * level + k) as u32
+            };
+            n.count[k] = if inner { 0 } else { 1 };
+        }
+        nodes.push(n);
+    }
+    let items: Vec<u32> = (0..8 * depth as u32).collect();
+    for simd in [Simd::Scalar, Simd::Avx2] {
+        let mut bvh = Bvh {
+            nodes: nodes.clone(),
+            items: items.clone(),
+            bounds: Aabb::new(DVec3::splat(-1.0), DVec3::ONE),
+            simd: Simd::Scalar,
+            stats: BvhStats::default(),
+        };
+        bvh.set_simd(simd);
+        let mut leaves = 0;
+        let ray = Ray::new(DVec3::new(-5.0, 0.0, 0.0), DVec3::X);
+        bvh.walk(&ray, 0.0, f64::INFINITY, |first, count, limit| {
+            assert_eq!(count, 1);
+            assert!(first < items.len());
+            leaves += 1;
+            limit
+        });
+        assert_eq!(leaves, 7 * (depth - 1) + 8);
+    }
+}
+
+/// The box query takes boxes as closed: a box that only touches the query
+/// (a shared face, edge or corner, or a flat box on its face) is visited.
+#[test]
+fn overlapping_counts_touching_boxes() {
+    let _watchdog = crate::watchdog::start();
+    // Unit cells of a 6×6×6 grid and flat squares on the grid's planes.
+    let mut boxes = Vec::new();
+    for i in 0..216 {
+        let p = DVec3::new((i % 6) as f64, (i / 6 % 6) as f64, (i / 36) as f64);
+        boxes.push(Aabb::new(p, p + DVec3::ONE));
+        let a = i % 3;
+        let mut q = p + DVec3::ONE;
+        q[a] = p[a];
+        boxes.push(Aabb::new(p, q));
+    }
+    for params in [TRIANGLES, crate::accel::OBJECTS] {
+        let bvh = Bvh::build(&boxes, params);
+        for i in 0..300 {
+            // Queries whose faces lie on the grid's planes, some flat.
+            let c = |k: usize| ((i * 7 + k * 5) % 7) as f64;
+            let lo = DVec3::new(c(0), c(1), c(2));
+            let mut hi = lo + DVec3::new((i % 3) as f64, (i / 3 % 2) as f64, (i / 6 % 3) as f64);
+            if i % 5 == 0 {
+                hi = lo;
+            }
+            let q = Aabb::new(lo, hi);
+            let mut seen = vec![false; boxes.len()];
+            assert!(bvh.overlapping(&q, |k| {
+                seen[k as usize] = true;
+                true
+            }));
+            for (k, b) in boxes.iter().enumerate() {
+                let meets = b.min.cmple(q.max).all() && b.max.cmpge(q.min).all();
+                assert!(
+                    !meets || seen[k],
+                    "box {k} {b:?} touches {q:?} but was not visited"
+                );
+            }
+        }
+        // A query clear of every box (beyond the grid in one axis and
+        // overlapping it in the others) visits nothing.
+        for a in 0..3 {
+            for side in [-1.0, 1.0] {
+                let mut c = DVec3::splat(3.0);
+                c[a] = 3.0 + side * 4.0;
+                let q = Aabb::new(c - DVec3::splat(0.5), c + DVec3::splat(0.5));
+                assert!(bvh.overlapping(&q, |k| panic!("box {k} visited for {q:?}")));
+            }
+        }
     }
 }
