@@ -239,8 +239,14 @@ fn empty_or_nan_windows_hold_no_root() {
         assert!(!all_roots(c, -1.0, 1.0, 1e-12).is_empty(), "{c:?}");
         assert!(all_roots(c, 1.0, -1.0, 1e-12).is_empty(), "{c:?}: lo > hi");
         assert!(all_roots(c, 0.8, 0.2, 1e-12).is_empty(), "{c:?}: lo > hi");
-        assert!(all_roots(c, f64::NAN, 1.0, 1e-12).is_empty(), "{c:?}: lo NaN");
-        assert!(all_roots(c, -1.0, f64::NAN, 1e-12).is_empty(), "{c:?}: hi NaN");
+        assert!(
+            all_roots(c, f64::NAN, 1.0, 1e-12).is_empty(),
+            "{c:?}: lo NaN"
+        );
+        assert!(
+            all_roots(c, -1.0, f64::NAN, 1e-12).is_empty(),
+            "{c:?}: hi NaN"
+        );
     }
     assert!(all_roots(&[-5.0, 1.0], 0.0, 1.0, 1e-12).is_empty());
     assert!(all_roots(&[5.0, 1.0], 0.0, 1.0, 1e-12).is_empty());
