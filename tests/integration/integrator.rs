@@ -152,12 +152,10 @@ render {{ width 1  height 1  max_depth 10  bailout {bailout}  background rgb(1, 
 ambient rgb(1, 1, 1) intensity 0
 box {{ min <-5, -5, -0.5>  max <5, 5, 0.5>  material {{ refract {{ ior 1.5 }} }} }}"
         ));
-        let p = film.get(0, 0);
-        for k in 0..3 {
+        for (k, &v) in film.get(0, 0).iter().enumerate() {
             assert!(
-                (p[k] as f64 - want).abs() < 1e-6,
-                "bailout {bailout}, channel {k}: {} vs {want}",
-                p[k]
+                (v as f64 - want).abs() < 1e-6,
+                "bailout {bailout}, channel {k}: {v} vs {want}"
             );
         }
     }
