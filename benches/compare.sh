@@ -42,8 +42,8 @@ pov_name() {
     # torus is the implicit quartic, against POV-Ray's poly + sturm;
     # torus_native is our torus shape, against its native torus.
     torus) echo torus_poly_sturm ;;
-    # We trace the whole ray tree (no adc_bailout): POV-Ray's glass_full.
-    glass) echo glass_full ;;
+    # glass.rt has POV-Ray's default bailout (against its glass);
+    # glass_full.rt traces the whole tree (against its glass_full).
     *) echo "$1" ;;
   esac
 }
