@@ -601,12 +601,7 @@ mod tests {
     #[test]
     fn a_floor_below_the_shaft_is_no_blocker_and_one_across_it_is() {
         let _watchdog = crate::watchdog::start();
-        let corners = [
-            DVec3::new(-1.0, 6.0, -1.0),
-            DVec3::new(1.0, 6.0, -1.0),
-            DVec3::new(1.0, 6.0, 1.0),
-            DVec3::new(-1.0, 6.0, 1.0),
-        ];
+        let corners = shaft::tests::light_square();
         let shaft = Shaft::new(DVec3::new(0.0, 1e-6, 0.0), corners).unwrap();
         let below = World::build(vec![Box::new(Plane::new(DVec3::Y, 0.0, 0))]);
         assert!(below.blockers(&shaft).unwrap().is_empty());
@@ -667,12 +662,7 @@ mod tests {
     #[test]
     fn unbounded_and_bounded_blockers_decide_the_rays() {
         let _watchdog = crate::watchdog::start();
-        let corners = [
-            DVec3::new(-1.0, 6.0, -1.0),
-            DVec3::new(1.0, 6.0, -1.0),
-            DVec3::new(1.0, 6.0, 1.0),
-            DVec3::new(-1.0, 6.0, 1.0),
-        ];
+        let corners = shaft::tests::light_square();
         let apex = DVec3::new(0.1, 0.0, -0.2);
         let shaft = Shaft::new(apex, corners).unwrap();
         for accel in [Accel::KdTree, Accel::Bvh] {
@@ -708,12 +698,7 @@ mod tests {
     #[test]
     fn more_blockers_than_the_list_holds_send_the_rays_to_the_tree() {
         let _watchdog = crate::watchdog::start();
-        let corners = [
-            DVec3::new(-1.0, 6.0, -1.0),
-            DVec3::new(1.0, 6.0, -1.0),
-            DVec3::new(1.0, 6.0, 1.0),
-            DVec3::new(-1.0, 6.0, 1.0),
-        ];
+        let corners = shaft::tests::light_square();
         let shaft = Shaft::new(DVec3::ZERO, corners).unwrap();
         for n in [Blockers::MAX, Blockers::MAX + 1] {
             for accel in [Accel::KdTree, Accel::Bvh] {

@@ -143,22 +143,27 @@ impl Shaft {
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
 
     fn unit_box(c: DVec3, r: f64) -> Aabb {
         Aabb::new(c - DVec3::splat(r), c + DVec3::splat(r))
     }
 
-    /// A 2 × 2 light at height 6 over the origin, seen from the floor.
-    fn shaft(apex: DVec3) -> Shaft {
-        let corners = [
+    /// The corners of a 2 × 2 light at height 6 over the origin (the
+    /// accel tests' light too).
+    pub(in crate::accel) fn light_square() -> [DVec3; 4] {
+        [
             DVec3::new(-1.0, 6.0, -1.0),
             DVec3::new(1.0, 6.0, -1.0),
             DVec3::new(1.0, 6.0, 1.0),
             DVec3::new(-1.0, 6.0, 1.0),
-        ];
-        Shaft::new(apex, corners).unwrap()
+        ]
+    }
+
+    /// That light seen from `apex` (on the floor, in most tests).
+    fn shaft(apex: DVec3) -> Shaft {
+        Shaft::new(apex, light_square()).unwrap()
     }
 
     #[test]
@@ -295,12 +300,7 @@ mod tests {
     #[test]
     fn an_apex_in_the_lights_plane_gives_no_shaft() {
         let _watchdog = crate::watchdog::start();
-        let corners = [
-            DVec3::new(-1.0, 6.0, -1.0),
-            DVec3::new(1.0, 6.0, -1.0),
-            DVec3::new(1.0, 6.0, 1.0),
-            DVec3::new(-1.0, 6.0, 1.0),
-        ];
+        let corners = light_square();
         assert!(Shaft::new(DVec3::new(5.0, 6.0, 0.0), corners).is_none());
         assert!(Shaft::new(DVec3::new(5.0, 6.0, 0.0), [corners[0]; 4]).is_none());
     }

@@ -371,15 +371,20 @@ pub(crate) mod testing {
     //! Property helpers every shape's tests share.
     use super::*;
 
-    /// Rays from random points on a big sphere around `target`, aimed near it.
-    pub fn rays_towards(target: DVec3, spread: f64, n: usize, seed: u64) -> Vec<Ray> {
+    /// Numbers in [−1, 1), the same every run (a 64-bit LCG's top bits).
+    pub fn numbers(seed: u64) -> impl FnMut() -> f64 {
         let mut s = seed.wrapping_mul(6364136223846793005).wrapping_add(1);
-        let mut rnd = move || {
+        move || {
             s = s
                 .wrapping_mul(6364136223846793005)
                 .wrapping_add(1442695040888963407);
             ((s >> 11) as f64) / ((1u64 << 53) as f64) * 2.0 - 1.0
-        };
+        }
+    }
+
+    /// Rays from random points on a big sphere around `target`, aimed near it.
+    pub fn rays_towards(target: DVec3, spread: f64, n: usize, seed: u64) -> Vec<Ray> {
+        let mut rnd = numbers(seed);
         (0..n)
             .map(|_| {
                 let o = target + DVec3::new(rnd(), rnd(), rnd()).normalize_or(DVec3::X) * 10.0;

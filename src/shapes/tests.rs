@@ -4,17 +4,7 @@
 
 use super::*;
 use crate::geometry::rounding::gamma;
-
-/// Numbers in [−1, 1), the same every run.
-fn numbers(seed: u64) -> impl FnMut() -> f64 {
-    let mut s = seed.wrapping_mul(6364136223846793005).wrapping_add(1);
-    move || {
-        s = s
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        ((s >> 11) as f64) / ((1u64 << 53) as f64) * 2.0 - 1.0
-    }
-}
+use crate::shapes::testing::numbers;
 
 #[test]
 fn quadratic_is_stable_for_tiny_roots() {

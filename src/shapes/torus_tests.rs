@@ -3,6 +3,7 @@
 
 use super::*;
 use crate::shapes::testing;
+use crate::shapes::testing::numbers;
 
 /// The torus's equation (R, r) at `p`, straight from its definition.
 fn f(big: f64, small: f64, p: DVec3) -> f64 {
@@ -27,17 +28,6 @@ fn on_torus(big: f64, small: f64, theta: f64, phi: f64) -> (DVec3, DVec3) {
     let out = DVec3::new(theta.sin(), 0.0, theta.cos());
     let n = out * phi.cos() + DVec3::Y * phi.sin();
     (out * big + n * small, n)
-}
-
-/// Numbers in [−1, 1), the same every run.
-fn numbers(seed: u64) -> impl FnMut() -> f64 {
-    let mut s = seed.wrapping_mul(6364136223846793005).wrapping_add(1);
-    move || {
-        s = s
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        ((s >> 11) as f64) / ((1u64 << 53) as f64) * 2.0 - 1.0
-    }
 }
 
 /// Rays aimed at `n` points spread over the torus (R, r), from 10·(R + r)

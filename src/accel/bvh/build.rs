@@ -113,7 +113,17 @@ struct Item {
 /// Builds the binary tree over the non-empty boxes; `None` when there are
 /// none.
 pub(super) fn binary(boxes: &[Aabb], params: BvhParams) -> Option<Binary> {
-    let items: Vec<Item> = boxes
+    let items = items_of(boxes);
+    if items.is_empty() {
+        return None;
+    }
+    Some(node(items, params, 0))
+}
+
+/// The non-empty boxes as items: their indices, their boxes rounded
+/// outwards to `f32`, and those boxes' centres.
+fn items_of(boxes: &[Aabb]) -> Vec<Item> {
+    boxes
         .iter()
         .enumerate()
         .filter(|(_, b)| !b.is_empty())
@@ -128,11 +138,7 @@ pub(super) fn binary(boxes: &[Aabb], params: BvhParams) -> Option<Binary> {
                 c: [0, 1, 2].map(|a| 0.5 * b.lo[a] + 0.5 * b.hi[a]),
             }
         })
-        .collect();
-    if items.is_empty() {
-        return None;
-    }
-    Some(node(items, params, 0))
+        .collect()
 }
 
 fn bounds_of(items: &[Item]) -> Box32 {
@@ -352,21 +358,8 @@ mod tests {
                 Aabb::new(p, p + DVec3::splat(0.5))
             })
             .collect();
-        let items: Vec<Item> = boxes
-            .iter()
-            .enumerate()
-            .map(|(i, b)| {
-                let b = Box32 {
-                    lo: b.min.to_array().map(round_down),
-                    hi: b.max.to_array().map(round_up),
-                };
-                Item {
-                    id: i as u32,
-                    b,
-                    c: [0, 1, 2].map(|a| 0.5 * b.lo[a] + 0.5 * b.hi[a]),
-                }
-            })
-            .collect();
+        let items = items_of(&boxes);
+        assert_eq!(items.len(), N as usize);
         for start in [MAX_BINARY_DEPTH - 2, MAX_BINARY_DEPTH] {
             let tree = node(items.clone(), P, start);
             assert_eq!(depth(&tree), MAX_BINARY_DEPTH - start);
