@@ -2,6 +2,7 @@
 //! thread independence.
 
 use crate::support::*;
+use raytrace::render::Film;
 
 const HEADER: &str = "
 camera { position <0, 0, 4>  look_at <0, 0, 0>  up <0, 1, 0>  distance 1  width 2  height 2 }
@@ -182,6 +183,34 @@ plane {{ normal <0, 1, 0>  offset -0.6  material {{ colour rgb(0.8, 0.8, 0.8)  r
     assert_eq!(one, two);
 }
 
+/// Two facing walls of material `wall` (a material block's body) at
+/// z = ±1, seen from between them with `render { … }` settings `render`,
+/// lit only by ambient light of intensity `a`.
+fn between_walls(render: &str, a: f64, wall: &str) -> Film {
+    render_src(&format!(
+        "camera {{ position <0, 0, 0>  look_at <0, 0, -1>  up <0, 1, 0>  fov 60 }}
+render {{ {render}  gamma linear }}
+ambient rgb(1, 1, 1) intensity {a}
+material wall {{ {wall} }}
+plane {{ normal <0, 0, 1>  offset -1  material wall }}
+plane {{ normal <0, 0, -1>  offset -1  material wall }}"
+    ))
+}
+
+/// Every pixel of `film` is `want` in each channel, to within `tol`.
+fn assert_every_pixel(film: &Film, want: [f64; 3], tol: f64, what: &str) {
+    for (i, p) in film.pixels.iter().enumerate() {
+        for k in 0..3 {
+            assert!(
+                (p[k] as f64 - want[k]).abs() < tol,
+                "{what}, pixel {i}, channel {k}: {} vs {}",
+                p[k],
+                want[k]
+            );
+        }
+    }
+}
+
 /// The recursion depth, exactly: between two facing mirrors lit only by
 /// ambient light every camera ray bounces until `max_depth`, so each pixel
 /// is (1 − R)·c·a·(1 + R + … + R^N) with N = max_depth (a reflection one
@@ -191,25 +220,14 @@ fn facing_mirrors_add_exactly_max_depth_reflections() {
     let _watchdog = crate::watchdog::start();
     let (r, a, c) = (0.5f64, 0.5f64, [1.0f64, 0.5, 0.25]);
     for n in 0..=4u32 {
-        let film = render_src(&format!(
-            "camera {{ position <0, 0, 0>  look_at <0, 0, -1>  up <0, 1, 0>  fov 60 }}
-render {{ width 5  height 5  max_depth {n}  gamma linear }}
-ambient rgb(1, 1, 1) intensity {a}
-plane {{ normal <0, 0, 1>  offset -1  material {{ colour rgb({}, {}, {})  reflect {r} }} }}
-plane {{ normal <0, 0, -1>  offset -1  material {{ colour rgb({}, {}, {})  reflect {r} }} }}",
-            c[0], c[1], c[2], c[0], c[1], c[2]
-        ));
+        let film = between_walls(
+            &format!("width 5  height 5  max_depth {n}"),
+            a,
+            &format!("colour rgb({}, {}, {})  reflect {r}", c[0], c[1], c[2]),
+        );
         let series: f64 = (0..=n).map(|k| r.powi(k as i32)).sum();
-        for (i, p) in film.pixels.iter().enumerate() {
-            for k in 0..3 {
-                let want = (1.0 - r) * c[k] * a * series;
-                assert!(
-                    (p[k] as f64 - want).abs() < 1e-5,
-                    "max_depth {n}, pixel {i}, channel {k}: {} vs {want}",
-                    p[k]
-                );
-            }
-        }
+        let want = c.map(|ck| (1.0 - r) * ck * a * series);
+        assert_every_pixel(&film, want, 1e-5, &format!("max_depth {n}"));
     }
 }
 
@@ -223,25 +241,15 @@ fn bailout_stops_the_reflections_whose_share_is_below_it() {
     let _watchdog = crate::watchdog::start();
     let (r, a, c) = (0.5f64, 0.5f64, [1.0f64, 0.5, 0.25]);
     for (bailout, n) in [(0.0, 20), (0.1, 3), (0.125, 3), (0.126, 2), (0.6, 0)] {
-        let film = render_src(&format!(
-            "camera {{ position <0, 0, 0>  look_at <0, 0, -1>  up <0, 1, 0>  fov 60 }}
-render {{ width 5  height 5  max_depth 20  bailout {bailout}  gamma linear }}
-ambient rgb(1, 1, 1) intensity {a}
-plane {{ normal <0, 0, 1>  offset -1  material {{ colour rgb({}, {}, {})  reflect {r} }} }}
-plane {{ normal <0, 0, -1>  offset -1  material {{ colour rgb({}, {}, {})  reflect {r} }} }}",
-            c[0], c[1], c[2], c[0], c[1], c[2]
-        ));
+        let film = between_walls(
+            &format!("width 5  height 5  max_depth 20  bailout {bailout}"),
+            a,
+            &format!("colour rgb({}, {}, {})  reflect {r}", c[0], c[1], c[2]),
+        );
         let series: f64 = (0..=n).map(|k| r.powi(k)).sum();
-        for (i, p) in film.pixels.iter().enumerate() {
-            for k in 0..3 {
-                let want = (1.0 - r) * c[k] * a * series;
-                assert!(
-                    (p[k] as f64 - want).abs() < 1e-6,
-                    "bailout {bailout}, pixel {i}, channel {k}: {} vs {want} ({n} reflections)",
-                    p[k]
-                );
-            }
-        }
+        let want = c.map(|ck| (1.0 - r) * ck * a * series);
+        let what = format!("bailout {bailout} ({n} reflections)");
+        assert_every_pixel(&film, want, 1e-6, &what);
     }
 }
 
@@ -254,26 +262,17 @@ fn bailout_weighs_a_coloured_mirror_by_its_strongest_channel() {
     let _watchdog = crate::watchdog::start();
     let (a, c, m) = (0.5f64, [0.2f64, 0.6, 0.9], [0.5f64, 0.1, 0.1]);
     for (bailout, n) in [(0.2, 2), (0.25, 2), (0.3, 1)] {
-        let film = render_src(&format!(
-            "camera {{ position <0, 0, 0>  look_at <0, 0, -1>  up <0, 1, 0>  fov 60 }}
-render {{ width 3  height 3  max_depth 20  bailout {bailout}  gamma linear }}
-ambient rgb(1, 1, 1) intensity {a}
-material wall {{ colour rgb({}, {}, {})  mirror 1  mirror_colour rgb({}, {}, {}) }}
-plane {{ normal <0, 0, 1>  offset -1  material wall }}
-plane {{ normal <0, 0, -1>  offset -1  material wall }}",
-            c[0], c[1], c[2], m[0], m[1], m[2]
-        ));
-        for (i, p) in film.pixels.iter().enumerate() {
-            for k in 0..3 {
-                let series: f64 = (0..=n).map(|j| m[k].powi(j)).sum();
-                let want = c[k] * a * series;
-                assert!(
-                    (p[k] as f64 - want).abs() < 1e-6,
-                    "bailout {bailout}, pixel {i}, channel {k}: {} vs {want} ({n} reflections)",
-                    p[k]
-                );
-            }
-        }
+        let film = between_walls(
+            &format!("width 3  height 3  max_depth 20  bailout {bailout}"),
+            a,
+            &format!(
+                "colour rgb({}, {}, {})  mirror 1  mirror_colour rgb({}, {}, {})",
+                c[0], c[1], c[2], m[0], m[1], m[2]
+            ),
+        );
+        let want = [0, 1, 2].map(|k| c[k] * a * (0..=n).map(|j| m[k].powi(j)).sum::<f64>());
+        let what = format!("bailout {bailout} ({n} reflections)");
+        assert_every_pixel(&film, want, 1e-6, &what);
     }
 }
 
