@@ -31,22 +31,27 @@ pub(super) fn evaluate_and_build(
     let program = b.program;
     let transfer = b.scene.settings.transfer;
     let mut known_len = b.env.known.len();
-    std::thread::scope(|s| {
+    let threaded = std::thread::scope(|s| {
         let (tx, rx) = mpsc::sync_channel::<Part>(PARTS_IN_FLIGHT);
+        let on_thread = &mut *b;
         // Building recurses as deep as the blocks nest: a main thread's
         // stack, not a spawned thread's 2 MiB.
-        let builder = std::thread::Builder::new()
+        let spawned = std::thread::Builder::new()
             .name("rt-build".into())
             .stack_size(8 << 20)
             .spawn_scoped(s, move || {
                 for (items, known) in rx {
                     if let Some(known) = known {
-                        b.env.known = known;
+                        on_thread.env.known = known;
                     }
-                    b.top_level(&items);
+                    on_thread.top_level(&items);
                 }
-            })
-            .expect("cannot start the builder's thread");
+            });
+        // No thread to be had (the system's limit): build in between
+        // instead, below, rather than fail.
+        let Ok(builder) = spawned else {
+            return None;
+        };
         let out =
             crate::eval::evaluate_in_parts_bound(program, transfer, options, |items, known| {
                 let changed = known.len() != known_len;
@@ -59,6 +64,14 @@ pub(super) fn evaluate_and_build(
         if let Err(panic) = builder.join() {
             std::panic::resume_unwind(panic);
         }
-        out
+        Some(out)
+    });
+    threaded.unwrap_or_else(|| {
+        crate::eval::evaluate_in_parts_bound(program, transfer, options, |items, known| {
+            if b.env.known.len() != known.len() {
+                b.env.known = known.to_vec();
+            }
+            b.top_level(&items);
+        })
     })
 }
