@@ -366,7 +366,8 @@ pub fn eval<N: Names + ?Sized>(names: &N, e: &Expr, errors: &mut Vec<Error>) -> 
             }
             // Every argument is evaluated (and its mistakes reported)
             // before any is found missing.
-            let mut got = Vec::with_capacity(args.len());
+            // On the stack: a built-in takes at most three (`rgb`, `clamp`).
+            let mut got: smallvec::SmallVec<[Value; 3]> = smallvec::SmallVec::new();
             let mut all = true;
             for a in args {
                 match eval(names, a, errors) {

@@ -22,6 +22,29 @@ pub(super) struct Scope {
     /// iteration, and a shared name costs no allocation each time.
     pub(super) vars: RefCell<Vec<Bound>>,
     pub(super) parent: Option<Rc<Scope>>,
+    /// Two bits of every name bound so far in any scope of this tree
+    /// ([`filter_bits`]): a name whose bits are not all set is bound
+    /// nowhere, and its lookup ends without walking the scopes. Most
+    /// names looked up are the builder's keywords (`sphere`, `centre`,
+    /// `rgb`, ten of them for each sphere a loop makes), which nothing
+    /// binds. Shared by the whole tree, so it only ever gains bits.
+    seen: Rc<Cell<u64>>,
+}
+
+/// Two of 64 bits for a name, from its length and its first and last
+/// bytes (a cheap hash: a false "maybe bound" only costs the walk).
+#[inline]
+fn filter_bits(name: &str) -> u64 {
+    let b = name.as_bytes();
+    let (first, last) = match (b.first(), b.last()) {
+        (Some(&f), Some(&l)) => (f as u32, l as u32),
+        _ => (0, 0),
+    };
+    let h = (b.len() as u32)
+        .wrapping_mul(0x9e37_79b9)
+        .wrapping_add(first.wrapping_mul(0x85eb_ca6b))
+        .wrapping_add(last.wrapping_mul(0xc2b2_ae35));
+    (1u64 << (h >> 26)) | (1u64 << ((h >> 20) & 63))
 }
 
 impl Scope {
@@ -29,6 +52,7 @@ impl Scope {
         Rc::new(Scope {
             vars: RefCell::new(Vec::new()),
             parent: None,
+            seen: Rc::new(Cell::new(0)),
         })
     }
 
@@ -36,11 +60,14 @@ impl Scope {
         Rc::new(Scope {
             vars: RefCell::new(Vec::new()),
             parent: Some(self.clone()),
+            seen: self.seen.clone(),
         })
     }
 
     pub(super) fn bind(&self, name: impl Into<Arc<str>>, b: Binding, span: Option<Span>) {
-        self.vars.borrow_mut().push((name.into(), b, span));
+        let name = name.into();
+        self.seen.set(self.seen.get() | filter_bits(&name));
+        self.vars.borrow_mut().push((name, b, span));
     }
 
     pub(super) fn get(&self, name: &str) -> Option<Binding> {
@@ -50,6 +77,10 @@ impl Scope {
     /// `f` of the innermost binding of `name`, if there is one: what a
     /// caller wants to know of it without copying it out.
     pub(super) fn with<R>(&self, name: &str, f: impl FnOnce(&Binding) -> R) -> Option<R> {
+        let bits = filter_bits(name);
+        if self.seen.get() & bits != bits {
+            return None;
+        }
         let mut s = Some(self);
         while let Some(scope) = s {
             if let Some((_, b, _)) = scope
@@ -68,6 +99,10 @@ impl Scope {
 
     /// Where `name` was bound in this very scope, if it was.
     pub(super) fn here(&self, name: &str) -> Option<Option<Span>> {
+        let bits = filter_bits(name);
+        if self.seen.get() & bits != bits {
+            return None;
+        }
         self.vars
             .borrow()
             .iter()

@@ -272,7 +272,28 @@ pub const OCCLUSION: Schema = Schema {
 pub struct Param<'a> {
     /// The schema's own name (static: no String per parameter read).
     pub name: Spanned<&'static str>,
-    pub values: Vec<Cow<'a, Item>>,
+    /// Inline: a parameter takes one or two values (`radius 2`,
+    /// `rotate x 90`), and a loop-built scene reads a few per object.
+    pub values: smallvec::SmallVec<[ItemRef<'a>; 2]>,
+}
+
+/// A parameter's value: an item of the block, or one made while reading
+/// (the `-2` split off `offset -2`). As a `Cow`, but 16 bytes rather than
+/// an item's 128: parameters are moved about as they are taken.
+#[derive(Clone, Debug)]
+pub enum ItemRef<'a> {
+    Borrowed(&'a Item),
+    Owned(Box<Item>),
+}
+
+impl std::ops::Deref for ItemRef<'_> {
+    type Target = Item;
+    fn deref(&self) -> &Item {
+        match self {
+            ItemRef::Borrowed(i) => i,
+            ItemRef::Owned(i) => i,
+        }
+    }
 }
 
 /// An object inside a `group` or CSG block.
@@ -399,7 +420,12 @@ pub fn read<'a>(
         block.span.end.saturating_sub(1),
         block.span.end,
     );
-    let mut out = Params::default();
+    // At most one parameter for every two items (a name and its value):
+    // room for all of them at once rather than growing from empty.
+    let mut out = Params {
+        list: Vec::with_capacity(items.len().div_ceil(2)),
+        ..Params::default()
+    };
     // Whether an item starts the next parameter (so it is not a value).
     let starts_param = |it: &Item| -> bool {
         if matches!(it, Item::Let { .. }) {
@@ -530,8 +556,10 @@ pub fn read<'a>(
             }
             continue;
         };
-        let mut values: Vec<Cow<Item>> = Vec::with_capacity(spec.arity.max(1));
-        values.extend(pending.map(Cow::Owned));
+        let mut values: smallvec::SmallVec<[ItemRef; 2]> = smallvec::SmallVec::new();
+        if let Some(p) = pending {
+            values.push(ItemRef::Owned(Box::new(p)));
+        }
         // A declared material's name is `material`'s value even when it
         // is also a keyword (`material mirror`).
         let material_name = |it: &Item| {
@@ -568,7 +596,9 @@ pub fn read<'a>(
                 )),
             );
             i += 1;
-            values.extend(items.get(i).map(Cow::Borrowed));
+            if let Some(v) = items.get(i) {
+                values.push(ItemRef::Borrowed(v));
+            }
             i += 1;
         }
         while values.len() < spec.arity
@@ -576,16 +606,18 @@ pub fn read<'a>(
             && (!items.get(i).is_some_and(starts_param)
                 || (values.is_empty() && items.get(i).is_some_and(material_name)))
         {
-            values.extend(items.get(i).map(Cow::Borrowed));
+            if let Some(v) = items.get(i) {
+                values.push(ItemRef::Borrowed(v));
+            }
             i += 1;
         }
         if spec.pattern && values.len() == 1 && values[0].as_name().is_some() {
             if let Some(s @ Item::Str { .. }) = items.get(i) {
-                values.push(Cow::Borrowed(s));
+                values.push(ItemRef::Borrowed(s));
                 i += 1;
             }
             if let Some(b @ Item::Block(_)) = items.get(i) {
-                values.push(Cow::Borrowed(b));
+                values.push(ItemRef::Borrowed(b));
                 i += 1;
             }
         }

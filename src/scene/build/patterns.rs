@@ -22,7 +22,6 @@ use crate::scene::pattern::{
     self, Checker, Checker3d, ColourMap, ColourPattern, Gradient, Granite, ImagePattern, Kind,
     MapError, Marble, MaterialPick, Noise, NormalKind, NormalPattern, Pattern, Sectors, Wood,
 };
-use std::borrow::Cow;
 use std::sync::Arc;
 
 /// What a pattern's values are: colours (`colour …`) or materials.
@@ -637,7 +636,10 @@ impl Builder<'_> {
     }
 
     /// `normal bumps { … }` (the values the params reader collected).
-    pub(super) fn normal_pattern(&mut self, values: &[Cow<Item>]) -> Option<NormalPattern> {
+    pub(super) fn normal_pattern(
+        &mut self,
+        values: &[super::params::ItemRef],
+    ) -> Option<NormalPattern> {
         let Some(name) = values.first().and_then(|v| v.as_name()) else {
             let first = &values[0];
             self.err(

@@ -18,7 +18,6 @@ use crate::lang::ast::{Block, Item, Span};
 use crate::lang::diagnostics::{Error, did_you_mean};
 use crate::scene::pattern;
 use crate::scene::texture::{ImageTexture, UvMapping};
-use std::borrow::Cow;
 use std::sync::Arc;
 
 const IMAGE: Schema = Schema {
@@ -36,7 +35,7 @@ const IMAGE: Schema = Schema {
 impl Builder<'_> {
     /// `values` as the params reader collected them: one value, or a pattern
     /// name with an optional string and block.
-    pub(super) fn texture(&mut self, values: &[Cow<Item>]) -> Option<Texture> {
+    pub(super) fn texture(&mut self, values: &[super::params::ItemRef]) -> Option<Texture> {
         let name = match values {
             [single] => match single.as_name() {
                 Some(n) if pattern::NAMES.contains(&n.node) && !single.is_bound_name() => n,
