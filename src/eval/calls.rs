@@ -205,6 +205,9 @@ impl Expander<'_> {
         self.expand(&body.items, &scope, false, &mut made, errors);
         self.pop();
         self.depth.set(self.depth.get() - 1);
-        Some(vec![Item::Traced { trace, items: made }])
+        Some(vec![Item::Traced {
+            trace: TraceRef::Shared(trace),
+            items: made,
+        }])
     }
 }

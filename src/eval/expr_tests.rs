@@ -31,7 +31,7 @@ fn arithmetic() {
     assert_eq!(eval("2 * pi / pi"), Ok(Value::Number(2.0)));
     assert_eq!(
         eval("<1, 2, 3> * 2 - <1, 1, 1>"),
-        Ok(Value::Vector(vec![1.0, 3.0, 5.0]))
+        Ok(Value::Vector(smallvec::smallvec![1.0, 3.0, 5.0]))
     );
     assert_eq!(eval("max(1, sqrt(9))"), Ok(Value::Number(3.0)));
     assert_eq!(eval("deg(rad(90))"), Ok(Value::Number(90.0)));
@@ -51,7 +51,7 @@ fn conditions_remainders_lists_and_indices() {
     assert_eq!(eval("len([1, 2, 3])"), Ok(Value::Number(3.0)));
     assert_eq!(
         eval("lerp(<0, 0, 0>, <2, 4, 6>, 0.5)"),
-        Ok(Value::Vector(vec![1.0, 2.0, 3.0]))
+        Ok(Value::Vector(smallvec::smallvec![1.0, 2.0, 3.0]))
     );
     // `and` stops early: the index out of range is never evaluated.
     assert_eq!(eval("1 > 2 and [1][5] == 0"), Ok(Value::Bool(false)));
@@ -75,7 +75,7 @@ fn vector_built_ins() {
     assert_eq!(eval("dot(<1, 2, 3>, <4, 5, 6>)"), Ok(Value::Number(32.0)));
     assert_eq!(
         eval("cross(<0, 1, 0>, <0, 0, 1>)"),
-        Ok(Value::Vector(vec![1.0, 0.0, 0.0]))
+        Ok(Value::Vector(smallvec::smallvec![1.0, 0.0, 0.0]))
     );
     assert_eq!(eval("length(<2, 3, 6>)"), Ok(Value::Number(7.0)));
     assert!(eval("normalize(<0, 0, 0>)").is_err());

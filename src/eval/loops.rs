@@ -118,6 +118,7 @@ impl Expander<'_> {
         };
         // One copy of the name for every iteration's scope and trace.
         let name: Arc<str> = Arc::from(var.node.as_str());
+        let site = self.loop_site(name.clone(), span);
         let mut inner = scope.child();
         for v in values {
             if self.stopped.get() {
@@ -131,11 +132,7 @@ impl Expander<'_> {
             } else {
                 inner = scope.child();
             }
-            let trace = self.push(Frame::Loop {
-                var: name.clone(),
-                value: v.clone(),
-                at: span,
-            });
+            let trace = self.push_iteration(&site, v.clone());
             inner.bind(name.clone(), Binding::Value(Some(v)), Some(var.span));
             let before = errors.len();
             let mut made = Vec::with_capacity(body.items.len());

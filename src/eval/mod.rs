@@ -29,7 +29,7 @@ mod scope;
 use scope::{Binding, Scope};
 mod trace;
 use trace::Frame;
-pub use trace::{Trace, trail};
+pub use trace::{LoopSite, Trace, TraceRef, trail};
 
 use crate::lang::Program;
 use crate::lang::ast::{Block, Expr, ExprKind, FnBody, FnDef, ForSource, Item, Span, Spanned};
@@ -52,7 +52,7 @@ struct Expander<'p> {
     /// Set once a limit is hit: everything after is skipped.
     stopped: Cell<bool>,
     /// The loop iteration or call being evaluated (innermost), if any.
-    context: RefCell<Option<Arc<Trace>>>,
+    context: RefCell<Option<TraceRef>>,
     known: RefCell<Vec<String>>,
     used_defines: RefCell<Vec<String>>,
 }
@@ -281,18 +281,46 @@ impl<'p> Expander<'p> {
     /// Enters a loop iteration or call (for messages); returns the trace
     /// that items made inside carry.
     fn push(&self, frame: Frame) -> Arc<Trace> {
-        let mut ctx = self.context.borrow_mut();
         let t = Arc::new(Trace {
             frame,
-            parent: ctx.take(),
+            parent: self.current(),
         });
-        *ctx = Some(t.clone());
+        *self.context.borrow_mut() = Some(TraceRef::Shared(t.clone()));
+        t
+    }
+
+    /// The trace being evaluated in, as a shared frame (a loop iteration's
+    /// is made now, and kept for whatever else nests in it).
+    fn current(&self) -> Option<Arc<Trace>> {
+        let mut ctx = self.context.borrow_mut();
+        let t = ctx.as_ref()?.shared();
+        *ctx = Some(TraceRef::Shared(t.clone()));
+        Some(t)
+    }
+
+    /// Starts a loop: the site its iterations share.
+    fn loop_site(&self, var: Arc<str>, at: Span) -> Arc<LoopSite> {
+        Arc::new(LoopSite {
+            var,
+            at,
+            parent: self.current(),
+        })
+    }
+
+    /// Enters an iteration of the loop at `site`; returns the trace that
+    /// items made inside carry.
+    fn push_iteration(&self, site: &Arc<LoopSite>, value: Value) -> TraceRef {
+        let t = TraceRef::Iteration(site.clone(), value);
+        *self.context.borrow_mut() = Some(t.clone());
         t
     }
 
     fn pop(&self) {
         let mut ctx = self.context.borrow_mut();
-        *ctx = ctx.as_ref().and_then(|t| t.parent.clone());
+        *ctx = ctx
+            .as_ref()
+            .and_then(TraceRef::parent)
+            .map(TraceRef::Shared);
     }
 
     fn count_object(&self, span: Span, errors: &mut Vec<Error>) -> bool {

@@ -27,6 +27,72 @@ pub(super) enum Frame {
     },
 }
 
+/// One run of a loop: what its iterations share.
+#[derive(Debug, PartialEq)]
+pub struct LoopSite {
+    pub(super) var: Arc<str>,
+    pub(super) at: Span,
+    pub(super) parent: Option<Arc<Trace>>,
+}
+
+/// The trace generated items carry. A loop iteration is its loop's site
+/// and its value, with no frame of its own: a loop of 100,000 objects
+/// then allocates one site, not 100,000 frames (made into a [`Trace`]
+/// only when something inside needs it as a parent: a nested loop or
+/// call).
+#[derive(Clone, Debug, PartialEq)]
+pub enum TraceRef {
+    Shared(Arc<Trace>),
+    Iteration(Arc<LoopSite>, Value),
+}
+
+impl TraceRef {
+    /// The same trace as a shared frame (allocated for an iteration).
+    pub(super) fn shared(&self) -> Arc<Trace> {
+        match self {
+            TraceRef::Shared(t) => t.clone(),
+            TraceRef::Iteration(site, value) => Arc::new(Trace {
+                frame: Frame::Loop {
+                    var: site.var.clone(),
+                    value: value.clone(),
+                    at: site.at,
+                },
+                parent: site.parent.clone(),
+            }),
+        }
+    }
+
+    /// The trace around this one.
+    pub(super) fn parent(&self) -> Option<Arc<Trace>> {
+        match self {
+            TraceRef::Shared(t) => t.parent.clone(),
+            TraceRef::Iteration(site, _) => site.parent.clone(),
+        }
+    }
+
+    /// As [`Trace::lines`].
+    pub fn lines(&self, sources: &crate::lang::source::Sources) -> Vec<String> {
+        match self {
+            TraceRef::Shared(t) => t.lines(sources),
+            TraceRef::Iteration(site, value) => {
+                let mut out = vec![loop_line(&site.var, value, site.at, sources)];
+                if let Some(p) = &site.parent {
+                    out.extend(p.lines(sources));
+                }
+                out
+            }
+        }
+    }
+}
+
+fn loop_line(var: &str, value: &Value, at: Span, sources: &crate::lang::source::Sources) -> String {
+    format!(
+        "in iteration {var} = {} of the loop at {}",
+        value.show(),
+        sources.location(at)
+    )
+}
+
 impl Trace {
     /// "in iteration i = 7 of the loop at scene.rt:9:1", "in `pillar`
     /// called from scene.rt:14:5 with h = 1.7", innermost first.
@@ -35,11 +101,7 @@ impl Trace {
         let mut t = Some(self);
         while let Some(trace) = t {
             out.push(match &trace.frame {
-                Frame::Loop { var, value, at } => format!(
-                    "in iteration {var} = {} of the loop at {}",
-                    value.show(),
-                    sources.location(*at)
-                ),
+                Frame::Loop { var, value, at } => loop_line(var, value, *at, sources),
                 Frame::Call { name, at, args } => {
                     let mut line = format!("in `{name}` called from {}", sources.location(*at));
                     if !args.is_empty() {

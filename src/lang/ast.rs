@@ -117,7 +117,7 @@ pub enum Item {
     /// evaluator, never by the parser): `trace` says where they came
     /// from, innermost first, for messages about them.
     Traced {
-        trace: std::sync::Arc<crate::eval::Trace>,
+        trace: crate::eval::TraceRef,
         items: Vec<Item>,
     },
 }

@@ -290,6 +290,33 @@ fn errors_in_a_loop_or_call_say_which() {
         help.contains("in `f` called from") && help.contains("in iteration k = 0"),
         "{help}"
     );
+    // Nested loops, innermost first: a mistake the builder finds, and one
+    // the evaluator finds (an iteration's trace is made only when needed).
+    let e = problems("for i in 0..3 {\n  for j in 0..3 {\n    sphere { radius 3 - i - j }\n  }\n}");
+    assert_eq!(e.len(), 1, "{e:?}");
+    nested_trail(&e[0], 2, 1);
+    let e =
+        problems("for i in 1..3 {\n  for j in 0..3 {\n    sphere { radius 1 / (i - j) }\n  }\n}");
+    assert_eq!(e[0].0, "division by zero");
+    nested_trail(&e[0], 1, 1);
+}
+
+/// The help of a mistake in iteration (i, j) of two nested loops at lines
+/// 1 and 2: the inner iteration's line, then the outer one's.
+fn nested_trail(e: &(String, Option<String>), j: u32, i: u32) {
+    let help = e.1.as_deref().unwrap_or_default();
+    let lines: Vec<&str> = help.lines().collect();
+    assert_eq!(lines.len(), 2, "{help}");
+    assert!(
+        lines[0].starts_with(&format!("in iteration j = {j} of the loop at "))
+            && lines[0].ends_with("scene.rt:2:3"),
+        "{help}"
+    );
+    assert!(
+        lines[1].starts_with(&format!("in iteration i = {i} of the loop at "))
+            && lines[1].ends_with("scene.rt:1:1"),
+        "{help}"
+    );
 }
 
 #[test]

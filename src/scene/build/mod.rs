@@ -149,7 +149,7 @@ struct Builder<'p> {
     /// The area lights of each object value, in its own space.
     instance_lights: HashMap<InstanceKey, Vec<super::AreaLight>>,
     /// Which loop iteration or call made what is being built.
-    trace: Option<Arc<crate::eval::Trace>>,
+    trace: Option<crate::eval::TraceRef>,
     /// Mistakes reported so far, by place and message: one written inside
     /// a loop is reported once (for the first iteration), not per iteration.
     reported: std::collections::HashSet<(Span, String)>,
@@ -239,7 +239,7 @@ impl<'p> Builder<'p> {
     /// Runs `f` with `trace` as the current trace (when there is one).
     fn traced<T>(
         &mut self,
-        trace: Option<&Arc<crate::eval::Trace>>,
+        trace: Option<&crate::eval::TraceRef>,
         f: impl FnOnce(&mut Self) -> T,
     ) -> T {
         let Some(t) = trace else {

@@ -303,7 +303,7 @@ pub struct Child<'a> {
     pub string: Option<&'a Item>,
     pub block: &'a Block,
     /// The loop iteration or call that made it.
-    pub trace: Option<std::sync::Arc<crate::eval::Trace>>,
+    pub trace: Option<crate::eval::TraceRef>,
     /// A placement of an object value: `kw` is its name, `block` the
     /// placement's transforms and material.
     pub instance: Option<std::sync::Arc<crate::eval::expr::Fragment>>,
@@ -320,7 +320,7 @@ pub fn instance_of(item: &Item) -> Option<&std::sync::Arc<crate::eval::expr::Fra
     }
 }
 
-type Trace = Option<std::sync::Arc<crate::eval::Trace>>;
+type Trace = Option<crate::eval::TraceRef>;
 
 /// A block's items with the evaluator's [`Item::Traced`] wrappers opened,
 /// each item with the trace of the wrapper it was in.
