@@ -82,6 +82,8 @@ impl Names for At<'_, '_> {
         // The value alone is copied out, not the binding.
         self.scope
             .with(name, |b| match b {
+                // A number (a loop's variable) without Value's clone.
+                Binding::Value(Some(Value::Number(x))) => Some(Some(Value::Number(*x))),
                 Binding::Value(v) => Some(v.clone()),
                 Binding::Function(..) => None,
             })

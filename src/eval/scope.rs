@@ -33,7 +33,7 @@ pub(super) struct Scope {
 
 /// Two of 64 bits for a name, from its length and its first and last
 /// bytes (a cheap hash: a false "maybe bound" only costs the walk).
-#[inline]
+#[inline(always)]
 fn filter_bits(name: &str) -> u64 {
     let b = name.as_bytes();
     let (first, last) = match (b.first(), b.last()) {
@@ -70,15 +70,26 @@ impl Scope {
         self.vars.borrow_mut().push((name, b, span));
     }
 
+    #[inline]
     pub(super) fn get(&self, name: &str) -> Option<Binding> {
+        if !self.may_bind(name) {
+            return None;
+        }
         self.with(name, Binding::clone)
+    }
+
+    /// False when `name` is bound in no scope of this tree (the filter):
+    /// a keyword's lookup then ends here, inlined where it is asked.
+    #[inline(always)]
+    pub(super) fn may_bind(&self, name: &str) -> bool {
+        let bits = filter_bits(name);
+        self.seen.get() & bits == bits
     }
 
     /// `f` of the innermost binding of `name`, if there is one: what a
     /// caller wants to know of it without copying it out.
     pub(super) fn with<R>(&self, name: &str, f: impl FnOnce(&Binding) -> R) -> Option<R> {
-        let bits = filter_bits(name);
-        if self.seen.get() & bits != bits {
+        if !self.may_bind(name) {
             return None;
         }
         let mut s = Some(self);
@@ -99,8 +110,7 @@ impl Scope {
 
     /// Where `name` was bound in this very scope, if it was.
     pub(super) fn here(&self, name: &str) -> Option<Option<Span>> {
-        let bits = filter_bits(name);
-        if self.seen.get() & bits != bits {
+        if !self.may_bind(name) {
             return None;
         }
         self.vars
@@ -141,5 +151,49 @@ impl Scope {
             s = scope.parent.as_deref();
         }
         out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn number(s: &Scope, name: &str) -> Option<f64> {
+        match s.get(name)? {
+            Binding::Value(Some(Value::Number(x))) => Some(x),
+            _ => None,
+        }
+    }
+
+    #[test]
+    fn lookups_find_every_binding_the_filter_has_seen_from_any_scope() {
+        let root = Scope::root();
+        let child = root.child();
+        let grandchild = child.child();
+        // Bound after the children were made, in the outer scope: the
+        // children share the filter, so they still find it.
+        root.bind("late", Binding::Value(Some(Value::Number(1.0))), None);
+        child.bind("i", Binding::Value(Some(Value::Number(2.0))), None);
+        assert_eq!(number(&grandchild, "late"), Some(1.0));
+        assert_eq!(number(&grandchild, "i"), Some(2.0));
+        assert_eq!(number(&root, "i"), None, "not seen from outside");
+        // Names the filter may confuse with bound ones (same length and
+        // ends) are still told apart by the walk.
+        assert_eq!(number(&grandchild, "lxte"), None);
+        assert_eq!(number(&grandchild, "j"), None);
+        assert!(grandchild.here("i").is_none() && child.here("i").is_some());
+        // Many names: every one still found (the filter only ever gains bits).
+        let names: Vec<String> = (0..200).map(|k| format!("n{k}")).collect();
+        for (k, n) in names.iter().enumerate() {
+            grandchild.bind(
+                n.as_str(),
+                Binding::Value(Some(Value::Number(k as f64))),
+                None,
+            );
+        }
+        for (k, n) in names.iter().enumerate() {
+            assert_eq!(number(&grandchild, n), Some(k as f64));
+        }
+        assert_eq!(number(&grandchild, "sphere"), None);
     }
 }

@@ -73,8 +73,13 @@ const MATERIAL_PARAM: Spec = spec(
     "a material name or a block `{ colour …  reflect … }`",
 );
 
+/// Whether `name` is one of [`TRANSFORMS`] (a `match`: asked of every
+/// parameter of every object).
 pub fn is_transform(name: &str) -> bool {
-    TRANSFORMS.iter().any(|s| s.name == name)
+    matches!(
+        name,
+        "translate" | "rotate" | "scale" | "shear" | "mirror" | "matrix"
+    )
 }
 
 impl Schema {
@@ -680,6 +685,24 @@ mod tests {
     use super::*;
     use crate::lang::ast::FileId;
     use crate::lang::parser::parse;
+
+    #[test]
+    fn is_transform_says_yes_to_exactly_the_transforms() {
+        for t in TRANSFORMS {
+            assert!(is_transform(t.name), "{} is a transform", t.name);
+        }
+        for name in [
+            "material",
+            "radius",
+            "centre",
+            "translation",
+            "rotat",
+            "Scale",
+            "",
+        ] {
+            assert!(!is_transform(name), "{name} is not a transform");
+        }
+    }
     use crate::scene::Transfer;
 
     /// The block of `sphere { body }`.
