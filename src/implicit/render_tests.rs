@@ -138,6 +138,20 @@ fn agree(a: &dyn Shape, b: &dyn Shape, rays: &[Ray], tol: f64) {
         a.crossings(r, &mut xa);
         b.crossings(r, &mut xb);
         assert_eq!(xa.len(), xb.len(), "crossings on {r:?}");
+        // Each crossing at the same t, with the same outward normal.
+        for (x, y) in xa.iter().zip(&xb) {
+            assert!(
+                (x.t - y.t).abs() < tol,
+                "crossing t {} vs {} on {r:?}",
+                x.t,
+                y.t
+            );
+            let (nx, ny) = (x.normal.normalize(), y.normal.normalize());
+            assert!(
+                (nx - ny).length() < 1e-6,
+                "crossing normal {nx} vs {ny} on {r:?}"
+            );
+        }
     }
     assert!(hits > rays.len() / 10, "too few hits to compare: {hits}");
 }
@@ -225,6 +239,8 @@ fn zero_gradient_points_get_a_normal() {
     let h = cone.intersect(&r, 0.0, f64::INFINITY).unwrap();
     assert!(h.t.is_finite() && (h.t - 5.0).abs() < 1e-6);
     assert!(h.normal.is_finite() && h.normal.length() > 0.0);
+    // There the normal is the reversed ray direction, as the module says.
+    assert_eq!(h.normal, -r.dir);
     // The heart renders without a NaN pixel.
     let (film, _) = draw(scenes::sextic(64));
     assert!(film.pixels.iter().flatten().all(|v| v.is_finite()));
@@ -314,4 +330,229 @@ fn automatic_boxes_clip_nothing() {
         }
     }
     assert!(checked >= 6, "only {checked} bounded equations");
+}
+
+/// The unit sphere's equation with no box at all (an infinite given box):
+/// the unbounded route (the ray's own t over the Cauchy bound, the far
+/// side read off the equation beyond the last root) finds the primitive's
+/// hits and crossings, in every window.
+#[test]
+fn unbounded_sphere_matches_the_primitive() {
+    let _watchdog = crate::watchdog::start();
+    let sphere = Sphere::new(DVec3::ZERO, 1.0, 0);
+    let rays = testing::rays_towards(DVec3::ZERO, 1.5, 1500, 23);
+    for text in ["x^2 + y^2 + z^2 - 1", "(x^2 + y^2 + z^2)_2 = 1"] {
+        let open = ImplicitSurface::new(compile(text), Some(Aabb::INFINITE), 0);
+        assert!(!open.bounds().is_finite());
+        agree(&open, &sphere, &rays, 1e-9);
+        testing::check_consistency(&open, &rays);
+        testing::check_alternation(&open, &rays);
+        assert!(testing::check_occludes_agrees(&open, &rays) > 100);
+    }
+}
+
+/// Hits lie on the surface: the true point (on the unit sphere, nearest
+/// the hit's point) is within the hit's `p_error` in each coordinate, and
+/// that bound is rounding-sized, not a cap; the normal is the unit
+/// sphere's, the normalised gradient p. With an automatic box, a given
+/// one, and none.
+#[test]
+fn sphere_hits_are_on_the_surface_within_their_error_bound() {
+    let _watchdog = crate::watchdog::start();
+    let rays = testing::rays_towards(DVec3::ZERO, 1.5, 1500, 29);
+    let boxes = [
+        None,
+        Some(Aabb::new(DVec3::splat(-1.5), DVec3::splat(1.5))),
+        Some(Aabb::INFINITE),
+    ];
+    for bounded_by in boxes {
+        let s = ImplicitSurface::new(compile("x^2 + y^2 + z^2 - 1"), bounded_by, 0);
+        let mut hits = 0;
+        for r in &rays {
+            let mut xs = Vec::new();
+            s.crossings(r, &mut xs);
+            xs.extend(s.intersect(r, 1e-9, f64::INFINITY));
+            for h in xs {
+                hits += 1;
+                let on = h.point.normalize();
+                let off = (h.point - on).abs();
+                assert!(
+                    off.cmple(h.p_error).all(),
+                    "{bounded_by:?}: {:?} off by {off} > {}",
+                    h.point,
+                    h.p_error
+                );
+                assert!(
+                    h.p_error.max_element() < 1e-9,
+                    "{bounded_by:?}: p_error {}",
+                    h.p_error
+                );
+                assert!((h.point - r.at(h.t)).length() < 1e-12);
+                // Crossings turn the normal outward, the nearest hit
+                // keeps it: either way ±p.
+                let outward = if h.normal.dot(on) > 0.0 { 1.0 } else { -1.0 };
+                assert!(
+                    (h.normal.normalize() - outward * on).length() < 1e-9,
+                    "normal {} at {on}",
+                    h.normal
+                );
+            }
+        }
+        assert!(hits > 1000, "{bounded_by:?}: {hits} hits");
+    }
+}
+
+/// An implicit cylinder whose given box cuts it (y from −1 to 1): alone
+/// the open tube (the box only clips it), in CSG (`solid_in_box`) the
+/// capped cylinder, its box faces crossings where they cut the solid.
+/// Both against the primitive cylinder, open and capped.
+#[test]
+fn cylinder_cut_by_its_box_is_the_open_or_capped_primitive() {
+    let _watchdog = crate::watchdog::start();
+    let cut = || {
+        ImplicitSurface::new(
+            compile("x^2 + z^2 - 1"),
+            Some(Aabb::new(
+                DVec3::new(-2.0, -1.0, -2.0),
+                DVec3::new(2.0, 1.0, 2.0),
+            )),
+            0,
+        )
+    };
+    let tube = cut();
+    let solid = cut().solid_in_box();
+    let open = crate::shapes::Cone::new(DVec3::ZERO, 1.0, 1.0, 2.0, 0, None);
+    let capped = crate::shapes::Cone::new(DVec3::ZERO, 1.0, 1.0, 2.0, 0, Some([0, 0]));
+    let rays = testing::rays_towards(DVec3::ZERO, 1.3, 2000, 31);
+    let mut caps = 0;
+    for r in &rays {
+        for (mine, twin) in [
+            (&tube as &dyn Shape, &open as &dyn Shape),
+            (&solid, &capped),
+        ] {
+            let a = mine.intersect(r, 1e-9, f64::INFINITY);
+            let b = twin.intersect(r, 1e-9, f64::INFINITY);
+            match (a, b) {
+                (None, None) => {}
+                (Some(x), Some(y)) => {
+                    assert!((x.t - y.t).abs() < 1e-9, "t {} vs {} on {r:?}", x.t, y.t);
+                    let (nx, ny) = (x.normal.normalize(), y.normal.normalize());
+                    assert!((nx - ny).length() < 1e-6, "normal {nx} vs {ny} on {r:?}");
+                    assert!((x.point - y.point).length() < 1e-9);
+                    assert!(x.point.abs().cmple(DVec3::new(2.0, 1.0, 2.0) + 1e-9).all());
+                }
+                (x, y) => panic!("{x:?} vs {y:?} on {r:?}"),
+            }
+            assert_eq!(
+                mine.occludes(r, 1e-9, f64::INFINITY),
+                twin.occludes(r, 1e-9, f64::INFINITY)
+            );
+        }
+        let (mut xa, mut xb) = (Vec::new(), Vec::new());
+        solid.crossings(r, &mut xa);
+        capped.crossings(r, &mut xb);
+        assert_eq!(xa.len(), xb.len(), "crossings {xa:?} vs {xb:?} on {r:?}");
+        for (x, y) in xa.iter().zip(&xb) {
+            assert!(
+                (x.t - y.t).abs() < 1e-9,
+                "crossing t {} vs {} on {r:?}",
+                x.t,
+                y.t
+            );
+            let (nx, ny) = (x.normal.normalize(), y.normal.normalize());
+            assert!(
+                (nx - ny).length() < 1e-6,
+                "crossing normal {nx} vs {ny} on {r:?}"
+            );
+            assert!(x.p_error.max_element() < 1e-9);
+            caps += (nx.y.abs() == 1.0) as usize;
+        }
+    }
+    assert!(caps > 200, "only {caps} cap crossings");
+    testing::check_alternation(&solid, &rays);
+    assert!(testing::check_occludes_agrees(&solid, &rays) > 200);
+    // Inside: the solid cylinder within the box, nothing outside the box.
+    let mut rnd = testing::numbers(37);
+    for _ in 0..2000 {
+        let p = DVec3::new(rnd(), rnd(), rnd()) * 2.5;
+        let rho = (p.x * p.x + p.z * p.z).sqrt();
+        if (rho - 1.0).abs() < 1e-6 || (p.y.abs() - 1.0).abs() < 1e-6 {
+            continue;
+        }
+        let want = rho < 1.0 && p.y.abs() < 1.0;
+        assert_eq!(solid.encloses(p), want, "{p}");
+    }
+}
+
+/// A written branch with no real point: √(x² + y² + z²) + 1 is never 0,
+/// though its square's zero set (the unit sphere) is met by most rays.
+/// No hit, no crossing, bounded or not.
+#[test]
+fn a_branch_with_no_point_is_never_hit() {
+    let _watchdog = crate::watchdog::start();
+    let rays = testing::rays_towards(DVec3::ZERO, 1.0, 300, 41);
+    for bounded_by in [
+        Some(Aabb::new(DVec3::splat(-2.0), DVec3::splat(2.0))),
+        Some(Aabb::INFINITE),
+    ] {
+        let s = ImplicitSurface::new(compile("(x^2 + y^2 + z^2)_2 + 1"), bounded_by, 0);
+        for r in &rays {
+            assert!(s.intersect(r, 0.0, f64::INFINITY).is_none(), "{r:?}");
+            assert!(!s.occludes(r, 0.0, f64::INFINITY), "{r:?}");
+            let mut xs = Vec::new();
+            s.crossings(r, &mut xs);
+            assert!(xs.is_empty(), "{xs:?}");
+        }
+    }
+}
+
+/// The window is open, t_min < t < t_max, as for every shape: a ray that
+/// starts exactly on the surface (t_min = 0, as a secondary ray without
+/// its offset) does not meet it again at t = 0, and a hit exactly at
+/// t_max (a shadow ray ending on the surface) is not in the window. Here
+/// the roots and box faces fall exactly on the window's ends: the unit
+/// sphere from (0, 0, 1) straight down (roots t = 0 and 2, s = −1 and 1/3
+/// on the chord through the box [−2, 2]³, all exact), and the solid
+/// cylinder of `cylinder_cut_by_its_box_is_the_open_or_capped_primitive`
+/// from the centre of its top cap (box face at t = 0, bottom at t = 2),
+/// against the capped primitive.
+#[test]
+fn hits_on_the_window_ends_are_outside_it() {
+    let _watchdog = crate::watchdog::start();
+    let down = DVec3::new(0.0, 0.0, -1.0);
+    for bounded_by in [
+        Some(Aabb::new(DVec3::splat(-2.0), DVec3::splat(2.0))),
+        Some(Aabb::INFINITE),
+    ] {
+        let s = ImplicitSurface::new(compile("x^2 + y^2 + z^2 - 1"), bounded_by, 0);
+        let on = Ray::new(DVec3::new(0.0, 0.0, 1.0), down);
+        let h = s.intersect(&on, 0.0, f64::INFINITY).expect("the far side");
+        assert!((h.t - 2.0).abs() < 1e-12, "{bounded_by:?}: {}", h.t);
+        let above = Ray::new(DVec3::new(0.0, 0.0, 3.0), down);
+        assert!(s.intersect(&above, 0.0, 2.0).is_none(), "{bounded_by:?}");
+        assert!(!s.occludes(&above, 0.0, 2.0), "{bounded_by:?}");
+        let h = s.intersect(&above, 0.0, 2.5).expect("the near side");
+        assert!((h.t - 2.0).abs() < 1e-12, "{bounded_by:?}: {}", h.t);
+    }
+    let solid = ImplicitSurface::new(
+        compile("x^2 + z^2 - 1"),
+        Some(Aabb::new(
+            DVec3::new(-2.0, -1.0, -2.0),
+            DVec3::new(2.0, 1.0, 2.0),
+        )),
+        0,
+    )
+    .solid_in_box();
+    let capped = crate::shapes::Cone::new(DVec3::ZERO, 1.0, 1.0, 2.0, 0, Some([0, 0]));
+    let y_down = DVec3::new(0.0, -1.0, 0.0);
+    for shape in [&solid as &dyn Shape, &capped] {
+        let on = Ray::new(DVec3::new(0.0, 1.0, 0.0), y_down);
+        let h = shape
+            .intersect(&on, 0.0, f64::INFINITY)
+            .expect("the bottom");
+        assert!((h.t - 2.0).abs() < 1e-12, "{}", h.t);
+        let above = Ray::new(DVec3::new(0.0, 3.0, 0.0), y_down);
+        assert!(shape.intersect(&above, 0.0, 2.0).is_none());
+        assert!(!shape.occludes(&above, 0.0, 2.0));
+    }
 }
