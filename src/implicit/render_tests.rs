@@ -345,6 +345,14 @@ fn unbounded_sphere_matches_the_primitive() {
     let _watchdog = crate::watchdog::start();
     let sphere = Sphere::new(DVec3::ZERO, 1.0, 0);
     let rays = testing::rays_towards(DVec3::ZERO, 1.5, 1500, 23);
+    let mut rnd = testing::numbers(47);
+    let inside: Vec<Ray> = (0..500)
+        .map(|_| {
+            let o = DVec3::new(rnd(), rnd(), rnd()).normalize_or(DVec3::X) * (0.8 + 0.19 * rnd());
+            let d = DVec3::new(rnd(), rnd(), rnd()).normalize_or(DVec3::Y);
+            Ray::new(o, d)
+        })
+        .collect();
     for text in ["x^2 + y^2 + z^2 - 1", "(x^2 + y^2 + z^2)_2 = 1"] {
         let open = ImplicitSurface::new(compile(text), Some(Aabb::INFINITE), 0);
         assert!(!open.bounds().is_finite());
@@ -352,7 +360,24 @@ fn unbounded_sphere_matches_the_primitive() {
         testing::check_consistency(&open, &rays);
         testing::check_alternation(&open, &rays);
         assert!(testing::check_occludes_agrees(&open, &rays) > 100);
+        // And from inside (a refracted ray): the far side lies beyond the
+        // largest |c_k / c_n| of the ray's quadratic when the near root is
+        // just behind the origin, so only the Cauchy bound's 1 + max
+        // holds it.
+        agree(&open, &sphere, &inside, 1e-9);
     }
+    // A sphere of radius 6 whose near side is 4 or more along the rays:
+    // what lies before the first root is read at a point before it, not
+    // past it (past it, up to twice as far, is inside this sphere).
+    let big = Sphere::new(DVec3::new(0.0, 0.0, 15.0), 6.0, 0);
+    let open = ImplicitSurface::new(
+        compile("x^2 + y^2 + (z - 15)^2 - 36"),
+        Some(Aabb::INFINITE),
+        0,
+    );
+    let rays = testing::rays_towards(DVec3::new(0.0, 0.0, 15.0), 8.0, 1000, 53);
+    agree(&open, &big, &rays, 1e-8);
+    testing::check_alternation(&open, &rays);
 }
 
 /// Hits lie on the surface: the box of ±`p_error` about a hit's point
@@ -593,6 +618,8 @@ fn cylinder_cut_by_an_off_centre_box_is_the_capped_primitive() {
     let capped =
         crate::shapes::Cone::new(DVec3::new(0.0, -0.25, 0.0), 1.0, 1.0, 1.5, 0, Some([0, 0]));
     let rays = testing::rays_towards(DVec3::new(0.0, -0.25, 0.0), 1.3, 2000, 43);
+    // A solid, as its twin: CSG may use it.
+    assert!(solid.is_solid() && capped.is_solid());
     agree(&solid, &capped, &rays, 1e-9);
     testing::check_alternation(&solid, &rays);
 }
