@@ -138,6 +138,20 @@ fn agree(a: &dyn Shape, b: &dyn Shape, rays: &[Ray], tol: f64) {
         a.crossings(r, &mut xa);
         b.crossings(r, &mut xb);
         assert_eq!(xa.len(), xb.len(), "crossings on {r:?}");
+        // Each crossing at the same t, with the same outward normal.
+        for (x, y) in xa.iter().zip(&xb) {
+            assert!(
+                (x.t - y.t).abs() < tol,
+                "crossing t {} vs {} on {r:?}",
+                x.t,
+                y.t
+            );
+            let (nx, ny) = (x.normal.normalize(), y.normal.normalize());
+            assert!(
+                (nx - ny).length() < 1e-6,
+                "crossing normal {nx} vs {ny} on {r:?}"
+            );
+        }
     }
     assert!(hits > rays.len() / 10, "too few hits to compare: {hits}");
 }
@@ -190,6 +204,10 @@ fn four_tori_agree() {
         testing::check_consistency(&auto, &rays);
         let given = ImplicitSurface::new(compile(text), Some(Aabb::new(-half, half)), 0);
         agree(&given, native.as_ref(), &rays, 1e-8);
+        // And with no box (an infinite given one): the quartic in the
+        // ray's own t, solved to the precision asked for unbounded roots.
+        let open = ImplicitSurface::new(compile(text), Some(Aabb::INFINITE), 0);
+        agree(&open, native.as_ref(), &rays, 1e-8);
     }
     // And the same picture: the benchmark scene both ways.
     let (a, _) = draw(scenes::torus(TorusKind::Implicit, 120));
@@ -225,6 +243,8 @@ fn zero_gradient_points_get_a_normal() {
     let h = cone.intersect(&r, 0.0, f64::INFINITY).unwrap();
     assert!(h.t.is_finite() && (h.t - 5.0).abs() < 1e-6);
     assert!(h.normal.is_finite() && h.normal.length() > 0.0);
+    // There the normal is the reversed ray direction, as the module says.
+    assert_eq!(h.normal, -r.dir);
     // The heart renders without a NaN pixel.
     let (film, _) = draw(scenes::sextic(64));
     assert!(film.pixels.iter().flatten().all(|v| v.is_finite()));
@@ -314,4 +334,292 @@ fn automatic_boxes_clip_nothing() {
         }
     }
     assert!(checked >= 6, "only {checked} bounded equations");
+}
+
+/// The unit sphere's equation with no box at all (an infinite given box):
+/// the unbounded route (the ray's own t over the Cauchy bound, the far
+/// side read off the equation beyond the last root) finds the primitive's
+/// hits and crossings, in every window.
+#[test]
+fn unbounded_sphere_matches_the_primitive() {
+    let _watchdog = crate::watchdog::start();
+    let sphere = Sphere::new(DVec3::ZERO, 1.0, 0);
+    let rays = testing::rays_towards(DVec3::ZERO, 1.5, 1500, 23);
+    let mut rnd = testing::numbers(47);
+    let inside: Vec<Ray> = (0..500)
+        .map(|_| {
+            let o = DVec3::new(rnd(), rnd(), rnd()).normalize_or(DVec3::X) * (0.8 + 0.19 * rnd());
+            let d = DVec3::new(rnd(), rnd(), rnd()).normalize_or(DVec3::Y);
+            Ray::new(o, d)
+        })
+        .collect();
+    for text in ["x^2 + y^2 + z^2 - 1", "(x^2 + y^2 + z^2)_2 = 1"] {
+        let open = ImplicitSurface::new(compile(text), Some(Aabb::INFINITE), 0);
+        assert!(!open.bounds().is_finite());
+        agree(&open, &sphere, &rays, 1e-9);
+        testing::check_consistency(&open, &rays);
+        testing::check_alternation(&open, &rays);
+        assert!(testing::check_occludes_agrees(&open, &rays) > 100);
+        // And from inside (a refracted ray): the far side lies beyond the
+        // largest |c_k / c_n| of the ray's quadratic when the near root is
+        // just behind the origin, so only the Cauchy bound's 1 + max
+        // holds it.
+        agree(&open, &sphere, &inside, 1e-9);
+    }
+    // A sphere of radius 6 whose near side is 4 or more along the rays:
+    // what lies before the first root is read at a point before it, not
+    // past it (past it, up to twice as far, is inside this sphere).
+    let big = Sphere::new(DVec3::new(0.0, 0.0, 15.0), 6.0, 0);
+    let open = ImplicitSurface::new(
+        compile("x^2 + y^2 + (z - 15)^2 - 36"),
+        Some(Aabb::INFINITE),
+        0,
+    );
+    let rays = testing::rays_towards(DVec3::new(0.0, 0.0, 15.0), 8.0, 1000, 53);
+    agree(&open, &big, &rays, 1e-8);
+    testing::check_alternation(&open, &rays);
+}
+
+/// Hits lie on the surface: the box of ±`p_error` about a hit's point
+/// reaches the unit sphere (along the normal, as the ray offset reads it),
+/// and that bound is rounding-sized, not a cap; the normal is the unit
+/// sphere's, the normalised gradient p. With an automatic box, a given
+/// one, and none; and in a box, for rays from 10⁵ away too, where the
+/// rounding of `ray.at(t)` (about 10⁻¹¹) is most of the point's error.
+#[test]
+fn sphere_hits_are_on_the_surface_within_their_error_bound() {
+    let _watchdog = crate::watchdog::start();
+    let near = testing::rays_towards(DVec3::ZERO, 1.5, 1500, 29);
+    let far: Vec<Ray> = near
+        .iter()
+        .map(|r| Ray::new(r.origin - 1e5 * r.dir, r.dir))
+        .collect();
+    let cases = [
+        (None, &near),
+        (
+            Some(Aabb::new(DVec3::splat(-1.5), DVec3::splat(1.5))),
+            &near,
+        ),
+        (Some(Aabb::INFINITE), &near),
+        (None, &far),
+        (Some(Aabb::new(DVec3::splat(-1.5), DVec3::splat(1.5))), &far),
+    ];
+    for (bounded_by, rays) in cases {
+        let s = ImplicitSurface::new(compile("x^2 + y^2 + z^2 - 1"), bounded_by, 0);
+        let mut hits = 0;
+        for r in rays {
+            let mut xs = Vec::new();
+            s.crossings(r, &mut xs);
+            xs.extend(s.intersect(r, 1e-9, f64::INFINITY));
+            for h in xs {
+                hits += 1;
+                // The box ±p_error about the point reaches the surface:
+                // its reach along the normal (what the ray offset uses)
+                // covers the point's distance from the sphere.
+                let on = h.point.normalize();
+                let off = (h.point.length() - 1.0).abs();
+                let reach = on.abs().dot(h.p_error);
+                assert!(
+                    off <= reach,
+                    "{bounded_by:?}: {:?} off by {off} > {reach}",
+                    h.point,
+                );
+                assert!(
+                    h.p_error.max_element() < 1e-9,
+                    "{bounded_by:?}: p_error {}",
+                    h.p_error
+                );
+                assert!((h.point - r.at(h.t)).length() < 1e-12);
+                // Crossings turn the normal outward, the nearest hit
+                // keeps it: either way ±p.
+                let outward = if h.normal.dot(on) > 0.0 { 1.0 } else { -1.0 };
+                assert!(
+                    (h.normal.normalize() - outward * on).length() < 1e-9,
+                    "normal {} at {on}",
+                    h.normal
+                );
+            }
+        }
+        assert!(hits > 1000, "{bounded_by:?}: {hits} hits");
+    }
+}
+
+/// An implicit cylinder whose given box cuts it (y from −1 to 1): alone
+/// the open tube (the box only clips it), in CSG (`solid_in_box`) the
+/// capped cylinder, its box faces crossings where they cut the solid.
+/// Both against the primitive cylinder, open and capped.
+#[test]
+fn cylinder_cut_by_its_box_is_the_open_or_capped_primitive() {
+    let _watchdog = crate::watchdog::start();
+    let cut = || {
+        ImplicitSurface::new(
+            compile("x^2 + z^2 - 1"),
+            Some(Aabb::new(
+                DVec3::new(-2.0, -1.0, -2.0),
+                DVec3::new(2.0, 1.0, 2.0),
+            )),
+            0,
+        )
+    };
+    let tube = cut();
+    let solid = cut().solid_in_box();
+    let open = crate::shapes::Cone::new(DVec3::ZERO, 1.0, 1.0, 2.0, 0, None);
+    let capped = crate::shapes::Cone::new(DVec3::ZERO, 1.0, 1.0, 2.0, 0, Some([0, 0]));
+    let rays = testing::rays_towards(DVec3::ZERO, 1.3, 2000, 31);
+    let mut caps = 0;
+    for r in &rays {
+        for (mine, twin) in [
+            (&tube as &dyn Shape, &open as &dyn Shape),
+            (&solid, &capped),
+        ] {
+            let a = mine.intersect(r, 1e-9, f64::INFINITY);
+            let b = twin.intersect(r, 1e-9, f64::INFINITY);
+            match (a, b) {
+                (None, None) => {}
+                (Some(x), Some(y)) => {
+                    assert!((x.t - y.t).abs() < 1e-9, "t {} vs {} on {r:?}", x.t, y.t);
+                    let (nx, ny) = (x.normal.normalize(), y.normal.normalize());
+                    assert!((nx - ny).length() < 1e-6, "normal {nx} vs {ny} on {r:?}");
+                    assert!((x.point - y.point).length() < 1e-9);
+                    assert!(x.point.abs().cmple(DVec3::new(2.0, 1.0, 2.0) + 1e-9).all());
+                }
+                (x, y) => panic!("{x:?} vs {y:?} on {r:?}"),
+            }
+            assert_eq!(
+                mine.occludes(r, 1e-9, f64::INFINITY),
+                twin.occludes(r, 1e-9, f64::INFINITY)
+            );
+        }
+        let (mut xa, mut xb) = (Vec::new(), Vec::new());
+        solid.crossings(r, &mut xa);
+        capped.crossings(r, &mut xb);
+        assert_eq!(xa.len(), xb.len(), "crossings {xa:?} vs {xb:?} on {r:?}");
+        for (x, y) in xa.iter().zip(&xb) {
+            assert!(
+                (x.t - y.t).abs() < 1e-9,
+                "crossing t {} vs {} on {r:?}",
+                x.t,
+                y.t
+            );
+            let (nx, ny) = (x.normal.normalize(), y.normal.normalize());
+            assert!(
+                (nx - ny).length() < 1e-6,
+                "crossing normal {nx} vs {ny} on {r:?}"
+            );
+            assert!(x.p_error.max_element() < 1e-9);
+            caps += (nx.y.abs() == 1.0) as usize;
+        }
+    }
+    assert!(caps > 200, "only {caps} cap crossings");
+    testing::check_alternation(&solid, &rays);
+    assert!(testing::check_occludes_agrees(&solid, &rays) > 200);
+    // Inside: the solid cylinder within the box, nothing outside the box.
+    let mut rnd = testing::numbers(37);
+    for _ in 0..2000 {
+        let p = DVec3::new(rnd(), rnd(), rnd()) * 2.5;
+        let rho = (p.x * p.x + p.z * p.z).sqrt();
+        if (rho - 1.0).abs() < 1e-6 || (p.y.abs() - 1.0).abs() < 1e-6 {
+            continue;
+        }
+        let want = rho < 1.0 && p.y.abs() < 1.0;
+        assert_eq!(solid.encloses(p), want, "{p}");
+    }
+}
+
+/// A written branch with no real point: √(x² + y² + z²) + 1 is never 0,
+/// though its square's zero set (the unit sphere) is met by most rays.
+/// No hit, no crossing, bounded or not.
+#[test]
+fn a_branch_with_no_point_is_never_hit() {
+    let _watchdog = crate::watchdog::start();
+    let rays = testing::rays_towards(DVec3::ZERO, 1.0, 300, 41);
+    for bounded_by in [
+        Some(Aabb::new(DVec3::splat(-2.0), DVec3::splat(2.0))),
+        Some(Aabb::INFINITE),
+    ] {
+        let s = ImplicitSurface::new(compile("(x^2 + y^2 + z^2)_2 + 1"), bounded_by, 0);
+        for r in &rays {
+            assert!(s.intersect(r, 0.0, f64::INFINITY).is_none(), "{r:?}");
+            assert!(!s.occludes(r, 0.0, f64::INFINITY), "{r:?}");
+            let mut xs = Vec::new();
+            s.crossings(r, &mut xs);
+            assert!(xs.is_empty(), "{xs:?}");
+        }
+    }
+}
+
+/// The window is open, t_min < t < t_max, as for every shape: a ray that
+/// starts exactly on the surface (t_min = 0, as a secondary ray without
+/// its offset) does not meet it again at t = 0, and a hit exactly at
+/// t_max (a shadow ray ending on the surface) is not in the window. Here
+/// the roots and box faces fall exactly on the window's ends: the unit
+/// sphere from (0, 0, 1) straight down (roots t = 0 and 2, s = −1 and 1/3
+/// on the chord through the box [−2, 2]³, all exact), and the solid
+/// cylinder of `cylinder_cut_by_its_box_is_the_open_or_capped_primitive`
+/// from the centre of its top cap (box face at t = 0, bottom at t = 2),
+/// against the capped primitive.
+#[test]
+fn hits_on_the_window_ends_are_outside_it() {
+    let _watchdog = crate::watchdog::start();
+    let down = DVec3::new(0.0, 0.0, -1.0);
+    for bounded_by in [
+        Some(Aabb::new(DVec3::splat(-2.0), DVec3::splat(2.0))),
+        Some(Aabb::INFINITE),
+    ] {
+        let s = ImplicitSurface::new(compile("x^2 + y^2 + z^2 - 1"), bounded_by, 0);
+        let on = Ray::new(DVec3::new(0.0, 0.0, 1.0), down);
+        let h = s.intersect(&on, 0.0, f64::INFINITY).expect("the far side");
+        assert!((h.t - 2.0).abs() < 1e-12, "{bounded_by:?}: {}", h.t);
+        let above = Ray::new(DVec3::new(0.0, 0.0, 3.0), down);
+        assert!(s.intersect(&above, 0.0, 2.0).is_none(), "{bounded_by:?}");
+        assert!(!s.occludes(&above, 0.0, 2.0), "{bounded_by:?}");
+        let h = s.intersect(&above, 0.0, 2.5).expect("the near side");
+        assert!((h.t - 2.0).abs() < 1e-12, "{bounded_by:?}: {}", h.t);
+    }
+    let solid = ImplicitSurface::new(
+        compile("x^2 + z^2 - 1"),
+        Some(Aabb::new(
+            DVec3::new(-2.0, -1.0, -2.0),
+            DVec3::new(2.0, 1.0, 2.0),
+        )),
+        0,
+    )
+    .solid_in_box();
+    let capped = crate::shapes::Cone::new(DVec3::ZERO, 1.0, 1.0, 2.0, 0, Some([0, 0]));
+    let y_down = DVec3::new(0.0, -1.0, 0.0);
+    for shape in [&solid as &dyn Shape, &capped] {
+        let on = Ray::new(DVec3::new(0.0, 1.0, 0.0), y_down);
+        let h = shape
+            .intersect(&on, 0.0, f64::INFINITY)
+            .expect("the bottom");
+        assert!((h.t - 2.0).abs() < 1e-12, "{}", h.t);
+        let above = Ray::new(DVec3::new(0.0, 3.0, 0.0), y_down);
+        assert!(shape.intersect(&above, 0.0, 2.0).is_none());
+        assert!(!shape.occludes(&above, 0.0, 2.0));
+    }
+}
+
+/// The same solid cylinder in a box off-centre on every axis (y from −1
+/// to 0.5, the side walls at unequal distances): the faces where the box
+/// cuts it are found by the wall the point lies on, not by symmetry, and
+/// the crossings and nearest hits are the capped primitive's.
+#[test]
+fn cylinder_cut_by_an_off_centre_box_is_the_capped_primitive() {
+    let _watchdog = crate::watchdog::start();
+    let solid = ImplicitSurface::new(
+        compile("x^2 + z^2 - 1"),
+        Some(Aabb::new(
+            DVec3::new(-2.0, -1.0, -3.0),
+            DVec3::new(2.5, 0.5, 1.5),
+        )),
+        0,
+    )
+    .solid_in_box();
+    let capped =
+        crate::shapes::Cone::new(DVec3::new(0.0, -0.25, 0.0), 1.0, 1.0, 1.5, 0, Some([0, 0]));
+    let rays = testing::rays_towards(DVec3::new(0.0, -0.25, 0.0), 1.3, 2000, 43);
+    // A solid, as its twin: CSG may use it.
+    assert!(solid.is_solid() && capped.is_solid());
+    agree(&solid, &capped, &rays, 1e-9);
+    testing::check_alternation(&solid, &rays);
 }

@@ -171,11 +171,37 @@ fn bracketed_root_from_every_start() {
         let x = bracketed(&p, a, b, fa, fb, 1e-15);
         assert!((x - 0.1).abs() < 1e-12, "[{a}, {b}]: {x}");
     }
-    // A secant guess outside the bracket: NaN from fa == fb is impossible
-    // with a sign change, but a huge slope ratio gives x == a exactly.
+    // A huge slope ratio: the secant guess is 1e-300, just inside.
     let p = [-1e-300, 1.0];
     let x = bracketed(&p, 0.0, 1.0, -1e-300, 1.0, 1e-15);
     assert!((x - 1e-300).abs() < 1e-15, "{x}");
+    // A secant guess that rounds onto an end: the bracket's left end is
+    // one ulp below the middle root of a cubic, where p is 5e-20, so the
+    // secant's step from it is far below an ulp. The search starts at the
+    // bracket's midpoint instead; a start outside the bracket (the other
+    // roots lie on either side of it) would lead Newton to another root.
+    let r = [
+        0.016852976499963646,
+        0.041876835226290376,
+        0.5568852300002916,
+    ];
+    let p = from_roots(&r, 0.0, 0);
+    let (a, b) = (r[1].next_down(), 0.5 * (r[1] + r[2]));
+    let (fa, fb) = (horner(&p, a), horner(&p, b));
+    assert!(fa > 0.0 && fb < 0.0, "{fa} {fb}");
+    assert_eq!(a - fa * (b - a) / (fb - fa), a, "the guess rounds onto a");
+    let x = bracketed(&p, a, b, fa, fb, 1e-15);
+    assert!((x - r[1]).abs() < 1e-12, "[{a}, {b}]: {x}");
+    // Newton stops when its step is small, not when it lands near 0: on
+    // t³ − 1/4 (root 0.63), the secant guess from [−1, b] is −1/2, whose
+    // Newton step (2x³ + 1/4)/(3x²) lands on 0, a long step to a point
+    // that is no root.
+    let p = [-0.25, 0.0, 0.0, 1.0];
+    let (a, b) = (-1.0, 1.8228756555323);
+    let (fa, fb) = (horner(&p, a), horner(&p, b));
+    assert!((a - fa * (b - a) / (fb - fa) + 0.5).abs() < 1e-12);
+    let x = bracketed(&p, a, b, fa, fb, 1e-15);
+    assert!((x - 0.25f64.cbrt()).abs() < 1e-12, "[{a}, {b}]: {x}");
 }
 
 #[test]
@@ -199,6 +225,51 @@ fn bernstein_cull_tells_clear_cases() {
         0.0,
         0
     )));
+}
+
+/// A root exactly at an end of [−1, 1] is a root in it: p(t) = (1 − t)·s(t)
+/// with s > 0 there is positive on [−1, 1) and zero at 1, so every
+/// Bernstein coefficient is positive but the last, which is 0 and comes
+/// out of the change of basis (its Taylor shift rounds) as noise of either
+/// sign. The cull's margin, relative to the terms summed, keeps such a
+/// polynomial as "maybe"; without it, or with a margin that shrinks as the
+/// coefficients grow, a root on the box's face (a ray leaving the box on
+/// the surface) would be culled. s has full-precision coefficients each
+/// 0.55 to 0.95 of the one before (so s > 0 on [−1, 1]: an alternating sum
+/// of decreasing terms), which makes each p_k = s_k − s_(k−1) exact
+/// (Sterbenz) and so p(1) = 0 exactly; and scaled by 2²⁰ as well.
+#[test]
+fn a_root_at_an_end_of_the_interval_is_never_culled() {
+    let _watchdog = crate::watchdog::start();
+    let mut rnd = crate::shapes::testing::numbers(0x5eed);
+    for trial in 0..3000 {
+        let deg = 2 + trial % 11;
+        let mut s = vec![1.0 + 0.5 * rnd().abs()];
+        for k in 1..deg {
+            let ratio = 0.75 + 0.2 * rnd();
+            s.push(s[k - 1] * ratio);
+        }
+        let scale = if trial % 2 == 0 { 1.0 } else { 2f64.powi(20) };
+        // p = (1 − t)·s, exactly (times a power of two).
+        let mut p = vec![0.0; deg + 1];
+        p[0] = s[0];
+        for k in 1..deg {
+            p[k] = s[k] - s[k - 1];
+        }
+        p[deg] = -s[deg - 1];
+        let p: Vec<f64> = p.iter().map(|v| v * scale).collect();
+        let minus: Vec<f64> = p.iter().map(|v| -v).collect();
+        for c in [p, minus] {
+            assert!(!no_root_in_unit(&c), "culled a root at 1: {c:?}");
+            // And mirrored (t → −t), a root at −1.
+            let m: Vec<f64> = c
+                .iter()
+                .enumerate()
+                .map(|(k, v)| if k % 2 == 1 { -v } else { *v })
+                .collect();
+            assert!(!no_root_in_unit(&m), "culled a root at −1: {m:?}");
+        }
+    }
 }
 
 #[test]
