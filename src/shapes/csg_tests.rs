@@ -737,3 +737,85 @@ fn a_union_wider_than_64_children_shadows_through_every_child() {
     let between = Ray::new(DVec3::new(199.5, 5.0, 0.0), DVec3::new(0.0, -1.0, 0.0));
     assert!(!u.occludes(&between, 1e-9, 10.0));
 }
+
+/// Inside-ness along a line at t from a crossing list that may start
+/// inside (an unbounded result): the last crossing before t tells, or
+/// else the first after it (leaving: inside until then).
+fn inside_by_crossings_from_anywhere(list: &[Hit], r: &Ray, t: f64, none: bool) -> bool {
+    match list.iter().rev().find(|h| h.t < t) {
+        Some(h) => h.normal.dot(r.dir) < 0.0,
+        None => list.first().map_or(none, |h| h.normal.dot(r.dir) > 0.0),
+    }
+}
+
+/// A half-space whose plane runs within 1e-9 rad of the line (so its one
+/// crossing is flagged grazing) still has an exact side: the line is
+/// inside it before a leaving crossing and outside after, and the other
+/// way round for an entering one. CSG with such a half-space agrees with
+/// point membership all along the line, whichever way it crosses, where
+/// the crossing is inside the ball or before it (a half-space entered
+/// before the ball holds the whole ball; one left before it, none).
+#[test]
+fn a_half_space_nearly_along_the_line_keeps_its_sides() {
+    let _watchdog = crate::watchdog::start();
+    let mut grazing = 0;
+    let mut crossings = 0;
+    for tilt in [1e-10, -1e-10, 3e-12] {
+        for x_cross in [-15.0, -3.0, 0.0, 4.0, 15.0] {
+            for dir in [DVec3::X, -DVec3::X] {
+                let cut =
+                    || Box::new(Plane::new(DVec3::new(tilt, 1.0, 0.0), 0.0, 3)) as Box<dyn Shape>;
+                let ball = || sphere(DVec3::ZERO, 8.0, 1);
+                let r = Ray::new(DVec3::new(-20.0 * dir.x, -tilt * x_cross, 0.3), dir);
+                let mut lite = Vec::new();
+                cut().crossings_lite(&r, &mut lite);
+                assert_eq!(lite.len(), 1);
+                grazing += lite[0].grazing as usize;
+                let in_cut = |p: DVec3| tilt * p.x + p.y <= 0.0;
+                let in_ball = |p: DVec3| p.length() < 8.0;
+                let cases: [(Csg, &dyn Fn(DVec3) -> bool); 5] = [
+                    (Csg::new(CsgOp::Intersection, vec![cut(), ball()]), &|p| {
+                        in_cut(p) && in_ball(p)
+                    }),
+                    (Csg::new(CsgOp::Intersection, vec![ball(), cut()]), &|p| {
+                        in_cut(p) && in_ball(p)
+                    }),
+                    (Csg::new(CsgOp::Difference, vec![ball(), cut()]), &|p| {
+                        in_ball(p) && !in_cut(p)
+                    }),
+                    (Csg::new(CsgOp::Difference, vec![cut(), ball()]), &|p| {
+                        in_cut(p) && !in_ball(p)
+                    }),
+                    (Csg::new(CsgOp::Union, vec![cut(), ball()]), &|p| {
+                        in_cut(p) || in_ball(p)
+                    }),
+                ];
+                for (s, inside) in cases {
+                    let list = xs(&s, &r);
+                    crossings += list.len();
+                    for w in list.windows(2) {
+                        let enter = |h: &Hit| h.normal.dot(r.dir) < 0.0;
+                        assert_ne!(enter(&w[0]), enter(&w[1]), "{:?} {list:?}", s.op);
+                    }
+                    let none = inside(r.origin);
+                    for k in 0..400 {
+                        let t = k as f64 * 0.1 + 0.0123;
+                        if list.iter().any(|h| (h.t - t).abs() < 1e-6) {
+                            continue;
+                        }
+                        assert_eq!(
+                            inside_by_crossings_from_anywhere(&list, &r, t, none),
+                            inside(r.at(t)),
+                            "{:?} t {t}: {list:?}",
+                            s.op
+                        );
+                    }
+                    let near = s.intersect(&r, 0.0, f64::INFINITY).map(|h| h.t);
+                    assert_eq!(near, list.first().map(|h| h.t));
+                }
+            }
+        }
+    }
+    assert_eq!(grazing, 30);
+    assert!(crossings > 100, "{crossings}");
+}
