@@ -34,6 +34,9 @@ fn union_with_itself_is_itself() {
     let a = || sphere(DVec3::new(0.2, 0.1, 0.0), 1.0, 1);
     let u = Csg::new(CsgOp::Union, vec![a(), a()]);
     let i = Csg::new(CsgOp::Intersection, vec![a(), a()]);
+    // A result is a solid again (a crossing list, an inside), so it can be
+    // a child of another block.
+    assert!(u.is_solid() && i.is_solid());
     for r in testing::rays_towards(DVec3::ZERO, 1.5, 300, 61) {
         let direct = xs(&*a(), &r);
         assert_same(&xs(&u, &r), &direct, &r);
