@@ -297,13 +297,17 @@ impl Csg {
         // A bounded solid cannot contain the far end of a line; an unbounded
         // one (a plane) starts inside when its first crossing leaves. A
         // grazing crossing (a tangent ray's double root) flips the inside
-        // flag rather than setting it.
+        // flag rather than setting it. The first one's sign still says
+        // which side the line starts on: an unbounded child's first
+        // crossing is never half of a tangent pair (whose signs are noise),
+        // but a plane's one crossing, exact in sign however nearly the
+        // plane runs along the line, or a nested CSG's, which reports one
+        // crossing per change of its inside-ness, chosen to agree with it.
         let mut inside = if bounded {
             false
         } else {
             match s.xs.get(first) {
-                Some(c) if !c.grazing => c.facing > 0.0,
-                Some(_) => false,
+                Some(c) => c.facing > 0.0,
                 None => self.children[i].encloses(ray.origin),
             }
         };

@@ -308,3 +308,59 @@ fn the_traits_defaults_answer_from_the_required_methods() {
     assert!(!s.misses_hull(&[a, b, DVec3::new(2.0, 0.0, 0.0)]));
     assert!(!s.encloses(DVec3::new(0.2, -0.1, 0.3)));
 }
+
+/// The watertight test's answer is a point of the triangle: weights that
+/// are each at least 0 and sum to 1, whose blend of the corners is the
+/// line's point at t, for random triangles at several scales and lines
+/// through them from every side (all six permutations of the axes).
+#[test]
+fn the_watertight_tests_weights_give_the_point_at_t() {
+    let _watchdog = crate::watchdog::start();
+    let mut rnd = numbers(22);
+    let mut hits = 0;
+    for i in 0..3000 {
+        let scale = 10f64.powi((i % 5) * 2 - 4);
+        let v = [(); 3].map(|_| DVec3::new(rnd(), rnd(), rnd()) * scale);
+        let b = [rnd().abs() + 0.01, rnd().abs() + 0.01, rnd().abs() + 0.01];
+        let sum = b[0] + b[1] + b[2];
+        let aim = (v[0] * b[0] + v[1] * b[1] + v[2] * b[2]) / sum;
+        let dir = DVec3::new(rnd(), rnd(), rnd()).normalize_or(DVec3::Z);
+        let ray = Ray::new(aim - dir * (3.0 * scale), dir);
+        let Some((t, w)) = ShearedRay::new(&ray).triangle(v[0], v[1], v[2]) else {
+            continue;
+        };
+        hits += 1;
+        assert!(w.iter().all(|&x| x >= 0.0), "{w:?}");
+        assert!((w[0] + w[1] + w[2] - 1.0).abs() < 1e-12, "{w:?}");
+        let p = v[0] * w[0] + v[1] * w[1] + v[2] * w[2];
+        let err = (p - ray.at(t)).length();
+        // Far from edge-on, the point is well conditioned in t.
+        let n = (v[1] - v[0]).cross(v[2] - v[0]).normalize();
+        if n.dot(dir).abs() > 0.1 {
+            assert!(err < 1e-9 * scale, "{err} at scale {scale}: {w:?}");
+        }
+    }
+    assert!(hits > 2500, "{hits}");
+}
+
+/// A triangle so large (corners 0.8e154 from the line) that the sum of
+/// its edge functions overflows, though each is finite: the test cannot
+/// place the crossing and reports none, rather than a made-up one (t = 0
+/// with zero weights, off the triangle's plane).
+#[test]
+fn a_triangle_whose_edge_functions_overflow_is_not_hit_anywhere_else() {
+    let _watchdog = crate::watchdog::start();
+    let s = 0.8e154;
+    let (v0, v1, v2) = (
+        DVec3::new(-s, -s, 0.1),
+        DVec3::new(s, -s, 0.1),
+        DVec3::new(0.0, s, 0.1),
+    );
+    for dir in [DVec3::Z, -DVec3::Z] {
+        let ray = Ray::new(DVec3::new(0.0, 0.0, 0.1) - 0.1 * dir, dir);
+        if let Some((t, w)) = ShearedRay::new(&ray).triangle(v0, v1, v2) {
+            assert!((t - 0.1).abs() < 1e-12, "{t} {w:?}");
+            assert!((w[0] + w[1] + w[2] - 1.0).abs() < 1e-12, "{t} {w:?}");
+        }
+    }
+}
