@@ -444,6 +444,12 @@ fn sphere_hits_are_on_the_surface_within_their_error_bound() {
     }
 }
 
+/// The implicit cylinder x² + z² = 1 (radius 1 about the y axis), given
+/// the box from `lo` to `hi`.
+fn cylinder_in(lo: DVec3, hi: DVec3) -> ImplicitSurface {
+    ImplicitSurface::new(compile("x^2 + z^2 - 1"), Some(Aabb::new(lo, hi)), 0)
+}
+
 /// An implicit cylinder whose given box cuts it (y from −1 to 1): alone
 /// the open tube (the box only clips it), in CSG (`solid_in_box`) the
 /// capped cylinder, its box faces crossings where they cut the solid.
@@ -451,16 +457,7 @@ fn sphere_hits_are_on_the_surface_within_their_error_bound() {
 #[test]
 fn cylinder_cut_by_its_box_is_the_open_or_capped_primitive() {
     let _watchdog = crate::watchdog::start();
-    let cut = || {
-        ImplicitSurface::new(
-            compile("x^2 + z^2 - 1"),
-            Some(Aabb::new(
-                DVec3::new(-2.0, -1.0, -2.0),
-                DVec3::new(2.0, 1.0, 2.0),
-            )),
-            0,
-        )
-    };
+    let cut = || cylinder_in(DVec3::new(-2.0, -1.0, -2.0), DVec3::new(2.0, 1.0, 2.0));
     let tube = cut();
     let solid = cut().solid_in_box();
     let open = crate::shapes::Cone::new(DVec3::ZERO, 1.0, 1.0, 2.0, 0, None);
@@ -576,15 +573,7 @@ fn hits_on_the_window_ends_are_outside_it() {
         let h = s.intersect(&above, 0.0, 2.5).expect("the near side");
         assert!((h.t - 2.0).abs() < 1e-12, "{bounded_by:?}: {}", h.t);
     }
-    let solid = ImplicitSurface::new(
-        compile("x^2 + z^2 - 1"),
-        Some(Aabb::new(
-            DVec3::new(-2.0, -1.0, -2.0),
-            DVec3::new(2.0, 1.0, 2.0),
-        )),
-        0,
-    )
-    .solid_in_box();
+    let solid = cylinder_in(DVec3::new(-2.0, -1.0, -2.0), DVec3::new(2.0, 1.0, 2.0)).solid_in_box();
     let capped = crate::shapes::Cone::new(DVec3::ZERO, 1.0, 1.0, 2.0, 0, Some([0, 0]));
     let y_down = DVec3::new(0.0, -1.0, 0.0);
     for shape in [&solid as &dyn Shape, &capped] {
@@ -606,15 +595,7 @@ fn hits_on_the_window_ends_are_outside_it() {
 #[test]
 fn cylinder_cut_by_an_off_centre_box_is_the_capped_primitive() {
     let _watchdog = crate::watchdog::start();
-    let solid = ImplicitSurface::new(
-        compile("x^2 + z^2 - 1"),
-        Some(Aabb::new(
-            DVec3::new(-2.0, -1.0, -3.0),
-            DVec3::new(2.5, 0.5, 1.5),
-        )),
-        0,
-    )
-    .solid_in_box();
+    let solid = cylinder_in(DVec3::new(-2.0, -1.0, -3.0), DVec3::new(2.5, 0.5, 1.5)).solid_in_box();
     let capped =
         crate::shapes::Cone::new(DVec3::new(0.0, -0.25, 0.0), 1.0, 1.0, 1.5, 0, Some([0, 0]));
     let rays = testing::rays_towards(DVec3::new(0.0, -0.25, 0.0), 1.3, 2000, 43);

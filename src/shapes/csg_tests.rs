@@ -992,14 +992,7 @@ fn a_half_space_nearly_along_the_line_keeps_its_sides() {
 /// boxes from `lo[k]` to `hi[k]`.
 fn boxes_mesh(lo: &[DVec3], hi: &[DVec3], m: u32) -> Box<dyn Shape> {
     use crate::shapes::mesh::{Mesh, MeshData};
-    let faces = [
-        [0, 2, 3, 1],
-        [4, 5, 7, 6],
-        [0, 1, 5, 4],
-        [2, 6, 7, 3],
-        [0, 4, 6, 2],
-        [1, 3, 7, 5],
-    ];
+    let faces = crate::shapes::testing::BOX_FACES;
     let (mut pos, mut tris) = (Vec::new(), Vec::new());
     for (a, b) in lo.iter().zip(hi) {
         let base = pos.len() as u32;

@@ -434,14 +434,7 @@ fn box_mesh(min: DVec3, size: DVec3) -> Arc<MeshData> {
             )
         })
         .collect();
-    let faces = [
-        [0, 2, 3, 1],
-        [4, 5, 7, 6],
-        [0, 1, 5, 4],
-        [2, 6, 7, 3],
-        [0, 4, 6, 2],
-        [1, 3, 7, 5],
-    ];
+    let faces = crate::shapes::testing::BOX_FACES;
     let tris = faces
         .iter()
         .flat_map(|f| [[f[0], f[1], f[2]], [f[0], f[2], f[3]]])

@@ -371,6 +371,17 @@ pub(crate) mod testing {
     //! Property helpers every shape's tests share.
     use super::*;
 
+    /// A box's six faces as corner indices, wound outwards, corner `i`
+    /// having bit 0, 1, 2 of `i` for its high x, y, z.
+    pub const BOX_FACES: [[u32; 4]; 6] = [
+        [0, 2, 3, 1],
+        [4, 5, 7, 6],
+        [0, 1, 5, 4],
+        [2, 6, 7, 3],
+        [0, 4, 6, 2],
+        [1, 3, 7, 5],
+    ];
+
     /// Numbers in [−1, 1), the same every run (a 64-bit LCG's top bits).
     pub fn numbers(seed: u64) -> impl FnMut() -> f64 {
         let mut s = seed.wrapping_mul(6364136223846793005).wrapping_add(1);
