@@ -408,4 +408,25 @@ mod tests {
             assert_eq!(t.sample(uv), Colour::ZERO, "{uv}");
         }
     }
+
+    /// A load sweeps out the cache entries no texture holds any more: their
+    /// `Weak` would keep the pixels' allocation alive (an `Arc<[T]>`'s
+    /// memory goes only with its last weak pointer).
+    #[test]
+    fn a_load_forgets_files_no_texture_holds() {
+        let dir = tempfile::tempdir().unwrap();
+        let (a, b) = (dir.path().join("a.png"), dir.path().join("b.png"));
+        two_by_two().save(&a).unwrap();
+        two_by_two().save(&b).unwrap();
+        let a = a.canonicalize().unwrap();
+        let held = |p: &Path| {
+            let cache = DECODED.lock().unwrap_or_else(|e| e.into_inner());
+            cache.as_ref().is_some_and(|c| c.keys().any(|k| k.0 == p))
+        };
+        let t = ImageTexture::load(&a, Transfer::Linear, UvMapping::default()).unwrap();
+        assert!(held(&a));
+        drop(t);
+        let _b = ImageTexture::load(&b, Transfer::Linear, UvMapping::default()).unwrap();
+        assert!(!held(&a), "a's entry outlived its pixels");
+    }
 }
