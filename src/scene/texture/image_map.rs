@@ -300,12 +300,13 @@ mod tests {
         assert!(matches!(r, Err(ImageError::Decode(_))));
     }
 
-    /// A 3×2 picture, each pixel's channels distinct, linear: pixel (i, j)
+    /// A 4×3 picture, each pixel's channels distinct, linear: pixel (i, j)
     /// (column, row from the top) is (10 + 40i + 7j, 20j + 3i, 200 − 30i − 50j)/255.
-    fn three_by_two() -> ImageTexture {
-        let mut img = image::RgbImage::new(3, 2);
-        for i in 0..3u8 {
-            for j in 0..2u8 {
+    /// Three rows, so that the row above and the row below differ.
+    fn four_by_three() -> ImageTexture {
+        let mut img = image::RgbImage::new(4, 3);
+        for i in 0..4u8 {
+            for j in 0..3u8 {
                 img.put_pixel(
                     i as u32,
                     j as u32,
@@ -317,7 +318,7 @@ mod tests {
     }
 
     fn pixel(i: i64, j: i64) -> Colour {
-        let (i, j) = (i.rem_euclid(3) as f64, j.rem_euclid(2) as f64);
+        let (i, j) = (i.rem_euclid(4) as f64, j.rem_euclid(3) as f64);
         Colour::new(
             (10.0 + 40.0 * i + 7.0 * j) / 255.0,
             (20.0 * j + 3.0 * i) / 255.0,
@@ -331,11 +332,11 @@ mod tests {
     /// across its edges too).
     #[test]
     fn centres_bilinear_between_and_wrap_around_on_a_non_square_picture() {
-        let t = three_by_two();
-        let centre = |i: f64, j: f64| DVec2::new((i + 0.5) / 3.0, 1.0 - (j + 0.5) / 2.0);
+        let t = four_by_three();
+        let centre = |i: f64, j: f64| DVec2::new((i + 0.5) / 4.0, 1.0 - (j + 0.5) / 3.0);
         let near = |a: Colour, b: Colour| (a - b).abs().max_element() < 1e-6;
-        for i in -3..6 {
-            for j in -2..4 {
+        for i in -4..8 {
+            for j in -3..6 {
                 let (fi, fj) = (i as f64, j as f64);
                 let c = t.sample(centre(fi, fj));
                 assert!(near(c, pixel(i, j)), "({i}, {j}): {c}");
@@ -360,7 +361,7 @@ mod tests {
     /// the mapped texture at (u, v) is the plain one at the mapped point.
     #[test]
     fn mapping_is_swap_then_flips_then_scale_then_offset() {
-        let plain = three_by_two();
+        let plain = four_by_three();
         for swap in [false, true] {
             for flip_u in [false, true] {
                 for flip_v in [false, true] {
@@ -399,7 +400,7 @@ mod tests {
     /// A point that is not finite (a NaN or infinite uv) shows nothing.
     #[test]
     fn a_point_that_is_not_finite_is_black() {
-        let t = three_by_two();
+        let t = four_by_three();
         for uv in [
             DVec2::new(f64::NAN, 0.5),
             DVec2::new(0.5, f64::INFINITY),
