@@ -16,7 +16,7 @@
 # Extra arguments go to cargo-mutants. Exclusions, each with its reason,
 # live in .cargo/mutants.toml. Results land in mutants.out/ (outcomes.json,
 # caught.txt, missed.txt, timeout.txt); see docs/testing.md.
-set -eu
+set -euf  # -f: the --file globs below go to cargo-mutants unexpanded
 cd "$(dirname "$0")/.."
 
 if ! cargo mutants --version >/dev/null 2>&1; then

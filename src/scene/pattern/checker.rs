@@ -114,4 +114,45 @@ mod tests {
         assert_eq!(c.value(DVec2::new(0.2, 0.6)), 0.0);
         assert_eq!(c.value(DVec2::new(0.1, 0.45)), 0.0);
     }
+
+    /// Away from the borders the cell is the documented one: the parity of
+    /// ⌊f(u, ku)⌋ + ⌊f(v, kv)⌋ with f(s, k) = k·s for s ≥ 0, 1 − k·s below.
+    #[test]
+    fn cells_follow_the_course_formula_on_both_sides_of_zero() {
+        let f = |s: f64, k: f64| if s >= 0.0 { k * s } else { 1.0 - k * s };
+        let c = Checker {
+            scale: DVec2::new(3.0, 1.5),
+        };
+        let mut checked = 0;
+        for i in 0..400 {
+            for j in 0..40 {
+                let (u, v) = (-3.0 + i as f64 * 0.0151, -2.0 + j as f64 * 0.1013);
+                let (fu, fv) = (f(u, 3.0), f(v, 1.5));
+                if [fu, fv].iter().any(|x| (x - x.round()).abs() < 1e-3) {
+                    continue;
+                }
+                let want = (fu.floor() + fv.floor()).rem_euclid(2.0);
+                assert_eq!(c.value(DVec2::new(u, v)), want, "({u}, {v})");
+                checked += 1;
+            }
+        }
+        assert!(checked > 10000, "{checked}");
+    }
+
+    /// The two colours change exactly at the integer lines of f: at
+    /// u = 0.5 with k = 2 (f = 1) the next cell begins, a hair before it
+    /// the first still holds; likewise f = 2 at u = −0.5.
+    #[test]
+    fn cells_change_exactly_on_the_integer_lines() {
+        let c = Checker {
+            scale: DVec2::splat(2.0),
+        };
+        let v = 0.1;
+        assert_eq!(c.value(DVec2::new(0.5, v)), 1.0);
+        assert_eq!(c.value(DVec2::new(0.5 - 1e-3, v)), 0.0);
+        assert_eq!(c.value(DVec2::new(-0.5, v)), 0.0);
+        assert_eq!(c.value(DVec2::new(-0.5 + 1e-3, v)), 1.0);
+        assert_eq!(c.value(DVec2::new(1.0, v)), 0.0);
+        assert_eq!(c.value(DVec2::new(1.0 - 1e-3, v)), 1.0);
+    }
 }

@@ -117,4 +117,58 @@ mod tests {
         assert_eq!(at(1.5, &mut hit), Texture::Solid(Colour::splat(0.9)));
         assert_eq!(calls.get(), 2, "once per resolve");
     }
+
+    /// (u, v) is computed only when something reads it, and once per
+    /// resolve: not for a plain material, nor for a pick by a solid
+    /// pattern of plain materials; once for a uv pick whose chosen
+    /// material reads uv too (a checker colour).
+    #[test]
+    fn uv_is_read_only_when_needed_and_once() {
+        use super::super::{ColourMap, ColourPattern, Gradient};
+        let plain = Material::matte(Texture::Solid(Colour::splat(0.5)), 0.0);
+        let checker = Pattern::new(Kind::Checker(Checker { scale: DVec2::ONE }));
+        let striped = Material::matte(
+            Texture::Pattern(Arc::new(ColourPattern {
+                pattern: checker.clone(),
+                map: ColourMap::two(Colour::ZERO, Colour::ONE),
+            })),
+            0.0,
+        );
+        let solid_pick = Material {
+            pick: Some(Arc::new(MaterialPick {
+                pattern: Pattern::new(Kind::Gradient(Gradient {
+                    axis: DVec3::X,
+                    mirror: false,
+                })),
+                bands: vec![(0.0, 0)],
+            })),
+            ..Material::default()
+        };
+        let uv_pick = Material {
+            pick: Some(Arc::new(MaterialPick {
+                pattern: checker,
+                bands: vec![(0.0, 1)],
+            })),
+            ..Material::default()
+        };
+        assert!(!plain.reads_uv());
+        assert!(striped.reads_uv());
+        assert!(!solid_pick.reads_uv());
+        assert!(uv_pick.reads_uv());
+        let materials = [plain, striped, solid_pick, uv_pick];
+        for (start, calls_wanted, chosen) in [(0, 0, 0), (2, 0, 0), (1, 1, 1), (3, 1, 1)] {
+            let calls = std::cell::Cell::new(0);
+            let mut hit = Hit {
+                material: start,
+                local: DVec3::new(0.3, 0.0, 0.0),
+                ..Hit::default()
+            };
+            let m = resolve(&materials, &mut hit, |_| {
+                calls.set(calls.get() + 1);
+                DVec2::new(0.25, 0.25)
+            });
+            assert_eq!(calls.get(), calls_wanted, "from material {start}");
+            assert_eq!(m, &materials[chosen], "from material {start}");
+        }
+    }
 }

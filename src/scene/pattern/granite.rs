@@ -34,4 +34,22 @@ mod tests {
         }
         assert!(changes > 50, "{changes}");
     }
+
+    /// The sum over six octaves of |n(4·2ⁱ·p)| / 2ⁱ, as documented.
+    #[test]
+    fn six_octaves_of_noise_at_four_times_the_point() {
+        for p in (0..50).map(|i| {
+            let t = i as f64;
+            DVec3::new(0.31 * t - 4.0, (0.7 * t).sin() * 2.0, 1.5 - 0.13 * t)
+        }) {
+            let want: f64 = (0..6)
+                .map(|i| {
+                    let f = 2f64.powi(i);
+                    perlin::noise(p * 4.0 * f).abs() / f
+                })
+                .sum();
+            let got = Granite.value(p);
+            assert!((got - want).abs() < 1e-12, "{p}: {got} vs {want}");
+        }
+    }
 }

@@ -36,4 +36,24 @@ mod tests {
             m.value(DVec3::new(1.0, 5.0, -3.0), 0.0)
         );
     }
+
+    /// With turbulence the value is 1 − ((1 + s)/2)^0.6, s = sin(x +
+    /// t·T(p)), T the six-octave turbulence, as documented.
+    #[test]
+    fn turbulence_shifts_the_phase_by_t_times_the_six_octave_sum() {
+        for p in (0..50).map(|i| {
+            let t = i as f64;
+            DVec3::new(0.31 * t - 4.0, (0.7 * t).sin() * 2.0, 1.5 - 0.13 * t)
+        }) {
+            for t in [0.5, 4.0] {
+                let s = (p.x + t * perlin::turbulence(p, 6)).sin();
+                let want = 1.0 - ((1.0 + s) / 2.0).powf(0.6);
+                let got = Marble.value(p, t);
+                assert!((got - want).abs() < 1e-12, "{p} {t}: {got} vs {want}");
+            }
+        }
+        // Half way between crest and vein (s = 0): 1 − 0.5^0.6.
+        let v = Marble.value(DVec3::new(0.0, 2.0, 3.0), 0.0);
+        assert!((v - (1.0 - 0.5f64.powf(0.6))).abs() < 1e-12, "{v}");
+    }
 }

@@ -226,4 +226,137 @@ mod tests {
         // ((1 − 0.25) · 0.5) = 0.375
         assert_eq!(p.value(DVec3::new(1.0, 7.0, 7.0), DVec2::ZERO), 0.375);
     }
+
+    fn image_pattern() -> ImagePattern {
+        let mut img = ::image::RgbImage::new(2, 1);
+        img.put_pixel(0, 0, ::image::Rgb([255, 0, 0]));
+        img.put_pixel(1, 0, ::image::Rgb([0, 0, 255]));
+        ImagePattern {
+            image: std::sync::Arc::new(super::super::texture::ImageTexture::from_rgb8(
+                &img,
+                super::super::Transfer::Linear,
+                Default::default(),
+            )),
+        }
+    }
+
+    /// Surface patterns (checker, image, sectors with `uv`) read (u, v),
+    /// the others the point; and `Pattern::value` without placement is
+    /// the kind's own value, clamped, read from the right one of the two.
+    #[test]
+    fn each_kind_reads_uv_or_the_point_as_documented() {
+        let sectors = |uv| Sectors {
+            count: 5,
+            uv,
+            alternate: false,
+        };
+        let surface = [
+            Kind::Checker(Checker {
+                scale: DVec2::new(4.0, 3.0),
+            }),
+            Kind::Image(image_pattern()),
+            Kind::Sectors(sectors(true)),
+        ];
+        let solid = [
+            Kind::Checker3d(Checker3d { size: 0.7 }),
+            Kind::Gradient(Gradient {
+                axis: DVec3::new(0.3, 0.2, 0.1),
+                mirror: false,
+            }),
+            Kind::Noise(Noise { octaves: 2 }),
+            Kind::Granite(Granite),
+            Kind::Marble(Marble),
+            Kind::Wood(Wood),
+            Kind::Sectors(sectors(false)),
+        ];
+        for k in &surface {
+            assert!(Pattern::new(k.clone()).reads_uv(), "{k:?}");
+        }
+        for k in &solid {
+            assert!(!Pattern::new(k.clone()).reads_uv(), "{k:?}");
+        }
+        for i in 0..60 {
+            let t = i as f64;
+            let p = DVec3::new((0.7 * t).sin() * 2.0, 0.3 * t - 5.0, (1.3 * t).cos() * 3.0);
+            let uv = DVec2::new((0.9 * t).cos(), (0.4 * t).sin() + 0.1 * t);
+            for k in surface.iter().chain(&solid) {
+                let own = match k {
+                    Kind::Checker(c) => c.value(uv),
+                    Kind::Image(im) => im.value(uv),
+                    Kind::Sectors(s) if s.uv => s.value_uv(uv),
+                    Kind::Sectors(s) => s.value_solid(p),
+                    Kind::Checker3d(c) => c.value(p),
+                    Kind::Gradient(g) => g.value(p),
+                    Kind::Noise(n) => n.value(p),
+                    Kind::Granite(g) => g.value(p),
+                    Kind::Marble(m) => m.value(p, 0.0),
+                    Kind::Wood(w) => w.value(p, 0.0),
+                };
+                let got = Pattern::new(k.clone()).value(p, uv);
+                assert_eq!(got, own.clamp(0.0, 1.0), "{k:?} at {p}, {uv}");
+            }
+        }
+    }
+
+    /// A surface pattern's `translate` moves it on (u, v): the placed
+    /// checker at uv is the unplaced one at uv − (x, y).
+    #[test]
+    fn translate_moves_a_surface_pattern_in_uv() {
+        let kind = Kind::Checker(Checker {
+            scale: DVec2::splat(4.0),
+        });
+        let mut placed = Pattern::new(kind.clone());
+        let t = DVec2::new(0.3, -0.1);
+        placed.place = Some(Transform::translate(DVec3::new(t.x, t.y, 0.0)));
+        let unplaced = Pattern::new(kind);
+        let (mut zeros, mut ones) = (0, 0);
+        for i in -6..6 {
+            for j in -6..6 {
+                // Cell centres of the unplaced checker, moved by t.
+                let c = DVec2::new((i as f64 + 0.5) / 4.0, (j as f64 + 0.5) / 4.0);
+                let want = unplaced.value(DVec3::ZERO, c);
+                assert_eq!(placed.value(DVec3::ZERO, c + t), want, "{c}");
+                if want == 0.0 { zeros += 1 } else { ones += 1 }
+            }
+        }
+        assert!(zeros > 50 && ones > 50);
+    }
+
+    /// Turbulence displaces the point by `amount` times three turbulence
+    /// sums (six octaves, centred by −0.3), read at the point and at two
+    /// far offsets: pinned, since every turbulent picture depends on it.
+    #[test]
+    fn warp_is_the_documented_displacement() {
+        for i in 0..40 {
+            let p = DVec3::new(0.37 * i as f64, 1.0 - 0.21 * i as f64, (i as f64).sin());
+            let a = 0.25 + 0.1 * i as f64;
+            let t = |o: DVec3| perlin::turbulence(p + o, 6) - 0.3;
+            let want = p + a * DVec3::new(
+                t(DVec3::ZERO),
+                t(DVec3::new(31.4, 17.3, -9.2)),
+                t(DVec3::new(-23.9, 41.1, 12.7)),
+            );
+            assert_eq!(warp(p, a), want);
+        }
+        assert_eq!(
+            warp(DVec3::new(0.1, 0.2, 0.3), 0.0),
+            DVec3::new(0.1, 0.2, 0.3)
+        );
+    }
+
+    #[test]
+    fn a_colour_pattern_is_its_map_at_its_value() {
+        let map = ColourMap::two(Colour::new(1.0, 0.5, 0.0), Colour::new(0.0, 0.25, 1.0));
+        let cp = ColourPattern {
+            pattern: Pattern::new(Kind::Gradient(Gradient {
+                axis: DVec3::X,
+                mirror: false,
+            })),
+            map: map.clone(),
+        };
+        for x in [0.0, 0.25, 0.5, 0.875] {
+            let p = DVec3::new(x, 3.0, -1.0);
+            assert_eq!(cp.colour(p, DVec2::ZERO), map.at(x));
+        }
+    }
 }

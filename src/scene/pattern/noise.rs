@@ -39,4 +39,25 @@ mod tests {
         let hi = vals.iter().cloned().fold(0.0, f64::max);
         assert!(lo < 0.3 && hi > 0.7, "{lo}..{hi}");
     }
+
+    /// k octaves: 0.5 + 0.5·Σ n(2ⁱ·p)/2ⁱ over i < k, as documented.
+    #[test]
+    fn octaves_double_the_frequency_and_halve_the_weight() {
+        for p in (0..50).map(|i| {
+            let t = i as f64;
+            DVec3::new(0.31 * t - 4.0, (0.7 * t).sin() * 2.0, 1.5 - 0.13 * t)
+        }) {
+            for k in [1, 2, 4] {
+                let sum: f64 = (0..k)
+                    .map(|i| {
+                        let f = 2f64.powi(i);
+                        perlin::noise(p * f) / f
+                    })
+                    .sum();
+                let want = 0.5 + 0.5 * sum;
+                let got = Noise { octaves: k as u32 }.value(p);
+                assert!((got - want).abs() < 1e-12, "{p} {k}: {got} vs {want}");
+            }
+        }
+    }
 }

@@ -255,4 +255,134 @@ mod tests {
         let p = DVec3::new(3.0, 0.0, 0.0);
         assert!((w.slope(p) * 4.0 - r.slope(p)).length() < 1e-12);
     }
+
+    /// Bumps: the slope is the gradient of the noise at q = scale·p (a
+    /// central difference with another step agrees), and a scaled
+    /// pattern's slope at p is the unscaled one's at scale·p (the slope
+    /// itself is not multiplied: bumps keep their steepness).
+    #[test]
+    fn bumps_are_the_noise_gradient_at_the_scaled_point() {
+        let n = super::super::perlin::noise;
+        let h = 1e-6;
+        let one = NormalPattern {
+            scale: 1.0,
+            ..bumps(1.0)
+        };
+        let three = bumps(1.0);
+        for i in 0..40 {
+            let p = DVec3::new(0.173 * i as f64, 0.5 - 0.061 * i as f64, (i as f64).cos());
+            let q = p * 3.0;
+            let d = |e: DVec3| (n(q + e * h) - n(q - e * h)) / (2.0 * h);
+            let want = DVec3::new(d(DVec3::X), d(DVec3::Y), d(DVec3::Z));
+            let got = three.slope(p);
+            assert!(
+                (got - want).length() < 1e-6 * (1.0 + want.length()),
+                "{got} vs {want}"
+            );
+            assert_eq!(got, one.slope(q));
+        }
+    }
+
+    /// Ripples: g = cos(2π r)·d/r with d = q − c; waves: that over 1 + r.
+    #[test]
+    fn ripples_and_waves_follow_their_formulas_around_an_off_origin_centre() {
+        let centre = DVec3::new(0.4, -0.3, 0.2);
+        let ripples = NormalPattern {
+            kind: NormalKind::Ripples { centre },
+            amount: 1.0,
+            scale: 2.0,
+            place: None,
+        };
+        let waves = NormalPattern {
+            kind: NormalKind::Waves { centre },
+            ..ripples.clone()
+        };
+        for i in 0..60 {
+            let p = DVec3::new(
+                0.11 * i as f64 - 2.0,
+                (0.3 * i as f64).sin(),
+                0.07 * i as f64,
+            );
+            let d = p * 2.0 - centre;
+            let r = d.length();
+            let want = (TAU * r).cos() * d / r;
+            let got = ripples.slope(p);
+            assert!((got - want).length() < 1e-12, "{got} vs {want}");
+            let got = waves.slope(p);
+            assert!((got - want / (1.0 + r)).length() < 1e-12, "{got} vs {want}");
+        }
+        // At the centre the slope is 0, not NaN.
+        assert_eq!(ripples.slope(centre / 2.0), DVec3::ZERO);
+    }
+
+    /// n′ = normalize(n − a·(g − (g·n)n)) while it stays MIN_COS or more
+    /// above the surface; below that it keeps its tangent direction at
+    /// exactly MIN_COS, unit length.
+    #[test]
+    fn the_tilted_normal_is_the_documented_one_or_clamped_to_min_cos() {
+        let (mut free, mut clamped) = (0, 0);
+        for amount in [0.3, 1.5, 60.0] {
+            let r = NormalPattern {
+                kind: NormalKind::Ripples {
+                    centre: DVec3::new(0.1, 0.2, -0.3),
+                },
+                amount,
+                scale: 1.3,
+                place: None,
+            };
+            for i in 0..80 {
+                let p = DVec3::new(0.05 * i as f64, 0.3, (0.2 * i as f64).sin());
+                // A tilted surface, so that g has a part along n.
+                let n = DVec3::new(0.2, 1.0, -0.3).normalize();
+                let ng = DVec3::new(0.1, 1.0, -0.2).normalize();
+                let g = amount * r.slope(p);
+                let m = (n - (g - g.dot(n) * n)).normalize();
+                let got = r.perturb(n, ng, p);
+                assert!((got.length() - 1.0).abs() < 1e-12, "{got}");
+                if m.dot(ng) >= MIN_COS {
+                    assert!((got - m).length() < 1e-12, "{got} vs {m}");
+                    free += 1;
+                } else {
+                    assert!((got.dot(ng) - MIN_COS).abs() < 1e-12, "{got}");
+                    let (wg, wm) = (got - got.dot(ng) * ng, m - m.dot(ng) * ng);
+                    assert!(
+                        (wg.normalize() - wm.normalize()).length() < 1e-9,
+                        "{got} vs {m}"
+                    );
+                    clamped += 1;
+                }
+            }
+        }
+        assert!(free > 20 && clamped > 20, "{free} {clamped}");
+    }
+
+    /// A shading normal exactly against the geometric one with no slope to
+    /// tilt it (a ripple's centre) has no tangent direction: straight up.
+    #[test]
+    fn a_normal_facing_straight_down_without_tilt_becomes_the_geometric_one() {
+        let r = NormalPattern {
+            kind: NormalKind::Ripples {
+                centre: DVec3::ZERO,
+            },
+            amount: 1.0,
+            scale: 1.0,
+            place: None,
+        };
+        assert_eq!(r.perturb(-DVec3::Y, DVec3::Y, DVec3::ZERO), DVec3::Y);
+    }
+
+    /// A map that sends slopes to 0 or to infinity (degenerate) keeps the
+    /// slope as it was instead of making NaN.
+    #[test]
+    fn a_degenerate_map_keeps_the_slope() {
+        let b = bumps(0.8);
+        for i in 0..20 {
+            let p = DVec3::new(0.13 * i as f64, 0.0, 0.41);
+            let want = b.perturb(DVec3::Y, DVec3::Y, p);
+            let zero = b.perturb_mapped(DVec3::Y, DVec3::Y, p, |_| DVec3::ZERO);
+            let inf = b.perturb_mapped(DVec3::Y, DVec3::Y, p, |g| g * f64::INFINITY);
+            assert_eq!(zero, want);
+            assert_eq!(inf, want);
+        }
+    }
 }

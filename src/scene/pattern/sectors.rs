@@ -98,4 +98,25 @@ mod tests {
             assert_eq!(at_degrees(&s, 45.0 * k as f64 + 20.0), (k % 2) as f64);
         }
     }
+
+    /// Just below the +x (or +u) axis, φ = 2π − ε rounds to 2π: still the
+    /// last sector (value 1, or k mod 2 of the last), never one past it.
+    #[test]
+    fn just_below_the_axis_is_the_last_sector() {
+        for count in [2, 4, 5, 6] {
+            let s = Sectors {
+                count,
+                uv: true,
+                alternate: false,
+            };
+            assert_eq!(s.value_uv(DVec2::new(1.0, -1e-300)), 1.0, "{count}");
+            assert_eq!(s.value_solid(DVec3::new(1.0, 0.0, -1e-300)), 1.0);
+            let alt = Sectors {
+                alternate: true,
+                ..s
+            };
+            let last = ((count - 1) % 2) as f64;
+            assert_eq!(alt.value_uv(DVec2::new(1.0, -1e-300)), last, "{count}");
+        }
+    }
 }

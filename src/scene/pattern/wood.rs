@@ -33,4 +33,21 @@ mod tests {
         );
         assert_eq!(w.value(DVec3::new(1.0, 0.0, 0.0), 0.0), 0.0, "a new ring");
     }
+
+    /// With turbulence the radius is √(x² + z²) + t·T(p), T the
+    /// four-octave turbulence, and the value frac(r)³, as documented.
+    #[test]
+    fn turbulence_adds_t_times_the_four_octave_sum_to_the_radius() {
+        for p in (0..50).map(|i| {
+            let t = i as f64;
+            DVec3::new(0.31 * t - 4.0, (0.7 * t).sin() * 2.0, 1.5 - 0.13 * t)
+        }) {
+            for t in [0.5, 2.0] {
+                let r = (p.x * p.x + p.z * p.z).sqrt() + t * perlin::turbulence(p, 4);
+                let want = (r - r.floor()).powi(3);
+                let got = Wood.value(p, t);
+                assert!((got - want).abs() < 1e-12, "{p} {t}: {got} vs {want}");
+            }
+        }
+    }
 }

@@ -299,4 +299,135 @@ mod tests {
         let r = ImageTexture::load(&bad, Transfer::Srgb, UvMapping::default());
         assert!(matches!(r, Err(ImageError::Decode(_))));
     }
+
+    /// A 4×3 picture, each pixel's channels distinct, linear: pixel (i, j)
+    /// (column, row from the top) is (10 + 40i + 7j, 20j + 3i, 200 − 30i − 50j)/255.
+    /// Three rows, so that the row above and the row below differ.
+    fn four_by_three() -> ImageTexture {
+        let mut img = image::RgbImage::new(4, 3);
+        for i in 0..4u8 {
+            for j in 0..3u8 {
+                img.put_pixel(
+                    i as u32,
+                    j as u32,
+                    image::Rgb([10 + 40 * i + 7 * j, 20 * j + 3 * i, 200 - 30 * i - 50 * j]),
+                );
+            }
+        }
+        ImageTexture::from_rgb8(&img, Transfer::Linear, UvMapping::default())
+    }
+
+    fn pixel(i: i64, j: i64) -> Colour {
+        let (i, j) = (i.rem_euclid(4) as f64, j.rem_euclid(3) as f64);
+        Colour::new(
+            (10.0 + 40.0 * i + 7.0 * j) / 255.0,
+            (20.0 * j + 3.0 * i) / 255.0,
+            (200.0 - 30.0 * i - 50.0 * j) / 255.0,
+        )
+    }
+
+    /// Pixel (i, j) has its centre at u = (i + ½)/w, v = 1 − (j + ½)/h on
+    /// a picture that is not square; halfway between two centres is their
+    /// mean (bilinear), and the picture repeats in u and v (wrapping
+    /// across its edges too).
+    #[test]
+    fn centres_bilinear_between_and_wrap_around_on_a_non_square_picture() {
+        let t = four_by_three();
+        let centre = |i: f64, j: f64| DVec2::new((i + 0.5) / 4.0, 1.0 - (j + 0.5) / 3.0);
+        let near = |a: Colour, b: Colour| (a - b).abs().max_element() < 1e-6;
+        for i in -4..8 {
+            for j in -3..6 {
+                let (fi, fj) = (i as f64, j as f64);
+                let c = t.sample(centre(fi, fj));
+                assert!(near(c, pixel(i, j)), "({i}, {j}): {c}");
+                let right = t.sample(centre(fi + 0.5, fj));
+                let want = (pixel(i, j) + pixel(i + 1, j)) / 2.0;
+                assert!(near(right, want), "right of ({i}, {j}): {right} vs {want}");
+                let below = t.sample(centre(fi, fj + 0.5));
+                let want = (pixel(i, j) + pixel(i, j + 1)) / 2.0;
+                assert!(near(below, want), "below ({i}, {j}): {below} vs {want}");
+                let quarter = t.sample(centre(fi + 0.25, fj + 0.75));
+                let want = (pixel(i, j) * 0.75 + pixel(i + 1, j) * 0.25) * 0.25
+                    + (pixel(i, j + 1) * 0.75 + pixel(i + 1, j + 1) * 0.25) * 0.75;
+                assert!(
+                    near(quarter, want),
+                    "({i}, {j}) + ¼, ¾: {quarter} vs {want}"
+                );
+            }
+        }
+    }
+
+    /// swap, then flip_u / flip_v (s → 1 − s), then scale, then offset:
+    /// the mapped texture at (u, v) is the plain one at the mapped point.
+    #[test]
+    fn mapping_is_swap_then_flips_then_scale_then_offset() {
+        let plain = four_by_three();
+        for swap in [false, true] {
+            for flip_u in [false, true] {
+                for flip_v in [false, true] {
+                    let mapping = UvMapping {
+                        scale: DVec2::new(2.0, 3.0),
+                        offset: DVec2::new(0.1, -0.35),
+                        swap,
+                        flip_u,
+                        flip_v,
+                    };
+                    let t = ImageTexture {
+                        mapping: mapping.clone(),
+                        ..plain.clone()
+                    };
+                    for k in 0..50 {
+                        let uv = DVec2::new(0.037 * k as f64 - 0.4, (0.3 * k as f64).sin());
+                        let mut q = if swap { DVec2::new(uv.y, uv.x) } else { uv };
+                        if flip_u {
+                            q.x = 1.0 - q.x;
+                        }
+                        if flip_v {
+                            q.y = 1.0 - q.y;
+                        }
+                        let q = q * mapping.scale + mapping.offset;
+                        let (got, want) = (t.sample(uv), plain.sample(q));
+                        assert!(
+                            (got - want).abs().max_element() < 1e-6,
+                            "{mapping:?} at {uv}: {got} vs {want}"
+                        );
+                    }
+                }
+            }
+        }
+    }
+
+    /// A point that is not finite (a NaN or infinite uv) shows nothing.
+    #[test]
+    fn a_point_that_is_not_finite_is_black() {
+        let t = four_by_three();
+        for uv in [
+            DVec2::new(f64::NAN, 0.5),
+            DVec2::new(0.5, f64::INFINITY),
+            DVec2::new(f64::NEG_INFINITY, 0.2),
+        ] {
+            assert_eq!(t.sample(uv), Colour::ZERO, "{uv}");
+        }
+    }
+
+    /// A load sweeps out the cache entries no texture holds any more: their
+    /// `Weak` would keep the pixels' allocation alive (an `Arc<[T]>`'s
+    /// memory goes only with its last weak pointer).
+    #[test]
+    fn a_load_forgets_files_no_texture_holds() {
+        let dir = tempfile::tempdir().unwrap();
+        let (a, b) = (dir.path().join("a.png"), dir.path().join("b.png"));
+        two_by_two().save(&a).unwrap();
+        two_by_two().save(&b).unwrap();
+        let a = a.canonicalize().unwrap();
+        let held = |p: &Path| {
+            let cache = DECODED.lock().unwrap_or_else(|e| e.into_inner());
+            cache.as_ref().is_some_and(|c| c.keys().any(|k| k.0 == p))
+        };
+        let t = ImageTexture::load(&a, Transfer::Linear, UvMapping::default()).unwrap();
+        assert!(held(&a));
+        drop(t);
+        let _b = ImageTexture::load(&b, Transfer::Linear, UvMapping::default()).unwrap();
+        assert!(!held(&a), "a's entry outlived its pixels");
+    }
 }

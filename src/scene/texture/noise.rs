@@ -149,4 +149,112 @@ mod tests {
         let p = DVec3::new(1.3, 2.7, -0.4);
         assert!((noise(p) - noise(p + DVec3::splat(1e-7))).abs() < 1e-5);
     }
+
+    /// The table is a permutation of 0..=255 (each value once), and not
+    /// the identity: a shuffle.
+    #[test]
+    fn the_table_is_a_shuffled_permutation() {
+        let mut seen = [false; 256];
+        for &v in PERM.iter() {
+            assert!(!seen[v as usize], "{v} twice");
+            seen[v as usize] = true;
+        }
+        let fixed = PERM
+            .iter()
+            .enumerate()
+            .filter(|(i, v)| *i == **v as usize)
+            .count();
+        assert!(fixed < 10, "{fixed} fixed points");
+    }
+
+    /// Perlin's improved noise written the other way round: the sum over
+    /// the cell's eight corners c of fade-weights times g(c)·(p − c), g
+    /// from the paper's table of twelve edge directions (padded to 16)
+    /// picked by the corner's hash P[P[P[X] + Y] + Z] (P the table
+    /// repeated, coordinates mod 256). Agrees with the nested lerps to
+    /// rounding, away from and on the lattice, at negative points too.
+    #[test]
+    fn noise_is_perlins_sum_over_the_corners() {
+        const G: [[f64; 3]; 16] = [
+            [1.0, 1.0, 0.0],
+            [-1.0, 1.0, 0.0],
+            [1.0, -1.0, 0.0],
+            [-1.0, -1.0, 0.0],
+            [1.0, 0.0, 1.0],
+            [-1.0, 0.0, 1.0],
+            [1.0, 0.0, -1.0],
+            [-1.0, 0.0, -1.0],
+            [0.0, 1.0, 1.0],
+            [0.0, -1.0, 1.0],
+            [0.0, 1.0, -1.0],
+            [0.0, -1.0, -1.0],
+            [1.0, 1.0, 0.0],
+            [0.0, -1.0, 1.0],
+            [-1.0, 1.0, 0.0],
+            [0.0, -1.0, -1.0],
+        ];
+        let p = |i: i64| PERM[i.rem_euclid(256) as usize] as i64;
+        let fade = |t: f64| 6.0 * t.powi(5) - 15.0 * t.powi(4) + 10.0 * t.powi(3);
+        let reference = |q: DVec3| {
+            let c = q.floor();
+            let f = q - c;
+            let (x, y, z) = (c.x as i64, c.y as i64, c.z as i64);
+            let mut sum = 0.0;
+            for (dx, dy, dz) in [
+                (0, 0, 0),
+                (1, 0, 0),
+                (0, 1, 0),
+                (1, 1, 0),
+                (0, 0, 1),
+                (1, 0, 1),
+                (0, 1, 1),
+                (1, 1, 1),
+            ] {
+                let h = p(p(p(x + dx) + (y + dy).rem_euclid(256)) + (z + dz).rem_euclid(256));
+                let g = G[(h & 15) as usize];
+                let d = f - DVec3::new(dx as f64, dy as f64, dz as f64);
+                let weight = |t: f64, side: i64| if side == 1 { fade(t) } else { 1.0 - fade(t) };
+                sum += weight(f.x, dx)
+                    * weight(f.y, dy)
+                    * weight(f.z, dz)
+                    * (g[0] * d.x + g[1] * d.y + g[2] * d.z);
+            }
+            sum
+        };
+        for i in 0..2000 {
+            let t = i as f64;
+            let q = DVec3::new(
+                (0.37 * t).sin() * 300.0,
+                0.173 * t - 170.0,
+                (t * 0.051).cos() * 40.0 + 0.5 * (t * 1.7).sin(),
+            );
+            let (got, want) = (noise(q), reference(q));
+            assert!((got - want).abs() < 1e-12, "{q}: {got} vs {want}");
+        }
+        // Near a lattice point noise is g·(p − c) to first order.
+        for c in [DVec3::new(3.0, -2.0, 7.0), DVec3::new(-100.0, 255.0, 256.0)] {
+            for e in [DVec3::X, DVec3::Y, DVec3::Z, DVec3::new(0.3, -0.5, 0.8)] {
+                let q = c + e * 1e-4;
+                assert!((noise(q) - reference(q)).abs() < 1e-12, "{q}");
+            }
+        }
+    }
+
+    /// Turbulence: Σ |n(2ⁱ·p)| / 2ⁱ over the octaves.
+    #[test]
+    fn turbulence_is_the_sum_of_octaves_of_absolute_noise() {
+        for i in 0..100 {
+            let q = DVec3::new(0.37 * i as f64, 1.3 - 0.11 * i as f64, (i as f64).sin());
+            for k in [1, 3, 6] {
+                let want: f64 = (0..k)
+                    .map(|j| {
+                        let f = 2f64.powi(j);
+                        noise(q * f).abs() / f
+                    })
+                    .sum();
+                let got = turbulence(q, k as u32);
+                assert!((got - want).abs() < 1e-12, "{q} {k}: {got} vs {want}");
+            }
+        }
+    }
 }
