@@ -198,6 +198,10 @@ fn every_operator_gives_its_known_value() {
         ("-0.5 % 2", 1.5),
         ("7 % 2.5", 2.0),
         ("9007199254740993 % 10", 2.0),
+        // Whole numbers past i64 (10^20 = 2^20·5^20 is exact; 10 ≡ 3 and
+        // 3^6 ≡ 1 mod 7, so 10^20 ≡ 3^2 ≡ 2).
+        ("1e20 % 7", 2.0),
+        ("-1e20 % 7", 5.0),
     ] {
         assert_eq!(num(src), want, "{src}");
     }
