@@ -524,3 +524,77 @@ fn loops_run_their_counted_values_and_stop_at_the_limit() {
         "{e:?}"
     );
 }
+
+#[test]
+fn calls_bind_arguments_by_place_name_and_default() {
+    let _watchdog = crate::watchdog::start();
+    // Each parameter a digit of the result: a wrong binding shows.
+    let f = "fn f(a, b = 2, c = a + b) = a * 100 + b * 10 + c\n";
+    let x = |call: &str| {
+        let s = build(&format!(
+            "{f}sphere {{ radius 0.1  centre <{call}, 0, 0> }}"
+        ));
+        centres(&s)[0].x
+    };
+    assert_eq!(x("f(1)"), 123.0);
+    assert_eq!(x("f(1, 5)"), 156.0);
+    assert_eq!(x("f(1, 5, 7)"), 157.0);
+    assert_eq!(x("f(1, c: 9)"), 129.0);
+    assert_eq!(x("f(b: 3, a: 2)"), 235.0);
+    assert_eq!(x("f(2, b: 3)"), 235.0);
+    // Mistakes in a call.
+    assert_eq!(
+        messages(&format!("{f}let v = f(1, 2, 3, 4)")),
+        ["`f` takes 3 arguments, not 4"]
+    );
+    assert_eq!(
+        messages(&format!("{f}let v = f(1, zzzz: 2)")),
+        ["`f` has no parameter `zzzz`"]
+    );
+    let e = problems(&format!("{f}let v = f(1, zzzz: 2)"));
+    assert_eq!(e[0].1.as_deref(), Some("its parameters are `a`, `b`, `c`"));
+    assert_eq!(
+        messages(&format!("{f}let v = f(1, a: 2)")),
+        ["`a` is given twice"]
+    );
+    assert_eq!(
+        messages(&format!("{f}let v = f(b: 1, b: 2, a: 1)")),
+        ["`b` is given twice"]
+    );
+    assert_eq!(messages(&format!("{f}let v = f(b: 1)")), ["`f` needs `a`"]);
+    // A mistake in an argument is the only report.
+    assert_eq!(
+        messages(&format!("{f}let v = f(1 / 0)")),
+        ["division by zero"]
+    );
+    assert_eq!(
+        messages(&format!("{f}let v = f(1, c: 1 / 0)")),
+        ["division by zero"]
+    );
+    assert_eq!(
+        messages("fn g() { sphere { } }\nlet v = g()"),
+        ["`g` makes objects, not a value"]
+    );
+    // The depth limit: calls exactly as deep as it run, one more is
+    // refused, and the depth goes back down after each call.
+    let three = Options {
+        limits: Limits {
+            depth: 3,
+            ..Limits::default()
+        },
+        ..Options::default()
+    };
+    let down = "fn down(n) {\n  sphere { }\n  if n > 1 { down(n - 1) }\n}\n\
+                fn v(n) = n\n";
+    let count =
+        |calls: &str| build_with(&format!("{down}{calls}"), &three).map(|s| s.objects.len());
+    assert_eq!(count("down(3)"), Ok(3));
+    assert_eq!(count("down(3)\ndown(3)\ndown(2)"), Ok(8));
+    assert_eq!(
+        count("sphere { radius v(v(v(v(1)))) }\ndown(3)"),
+        Ok(4),
+        "arguments are worked out before the call is entered"
+    );
+    let e = count("down(4)").unwrap_err();
+    assert_eq!(e[0].0, "function calls nest more than 3 deep");
+}
