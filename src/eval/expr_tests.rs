@@ -595,3 +595,138 @@ fn mistakes_in_operators_and_built_ins_say_what_and_where() {
         "`min` takes 2 arguments, not 1"
     );
 }
+
+fn fragment(src: &str) -> Value {
+    let items = parse(src, FileId(0)).unwrap();
+    let span = items[0].as_name().unwrap().span;
+    Value::Items(Arc::new(Fragment { items, span }))
+}
+
+#[test]
+fn values_name_their_kind_and_show_themselves() {
+    let _watchdog = crate::watchdog::start();
+    let kind = |src: &str| eval(src).unwrap().kind();
+    assert_eq!(kind("1"), "a number");
+    assert_eq!(kind("<1, 2>"), "a 2-vector");
+    assert_eq!(kind("rgb(1, 1, 1)"), "a colour");
+    assert_eq!(kind("1 < 2"), "a condition (true or false)");
+    assert_eq!(kind("[1, 2, 3]"), "a list of 3");
+    assert_eq!(fragment("material { }").kind(), "a material");
+    assert_eq!(fragment("sphere { }").kind(), "an object (`sphere`)");
+    assert_eq!(fragment("checker { }").kind(), "a pattern (`checker`)");
+    let Value::Items(f) = fragment("material { }") else {
+        unreachable!()
+    };
+    assert_eq!((f.head(), f.is_material()), ("material", true));
+    let Value::Items(f) = fragment("sphere { }") else {
+        unreachable!()
+    };
+    assert_eq!((f.head(), f.is_material()), ("sphere", false));
+    let show = |src: &str| eval(src).unwrap().show();
+    assert_eq!(show("1.5"), "1.5");
+    assert_eq!(show("<1, 2.5, 3>"), "<1, 2.5, 3>");
+    assert_eq!(show("rgb(1, 0.5, 0)"), "rgb(1, 0.5, 0)");
+    assert_eq!(show("1 < 2"), "true");
+    assert_eq!(show("[1, <1, 2>, 3, 4]"), "[1, <1, 2>, 3, 4]");
+    assert_eq!(show("[1, 2, 3, 4, 5]"), "a list of 5");
+    assert_eq!(fragment("sphere { }").show(), "an object (`sphere`)");
+}
+
+#[test]
+fn reserved_names_constants_and_closed_expressions() {
+    let _watchdog = crate::watchdog::start();
+    for n in [
+        "pi", "x", "y", "z", "clock", "frame", "sqrt", "random", "len",
+    ] {
+        assert!(is_reserved(n), "{n}");
+    }
+    for n in ["radius", "k", "sqr", "red"] {
+        assert!(!is_reserved(n), "{n}");
+    }
+    let span = |start| Span {
+        file: FileId(0),
+        start,
+        end: start + 1,
+    };
+    let mut env = Env::new(Transfer::Gamma(2.0));
+    env.constants.insert(
+        "k".into(),
+        Constant {
+            value: Some(Value::Number(2.5)),
+            span: span(0),
+        },
+    );
+    env.constants.insert(
+        "v".into(),
+        Constant {
+            value: Some(Value::Vector(smallvec::smallvec![1.0, 2.0, 3.0])),
+            span: span(1),
+        },
+    );
+    env.constants.insert(
+        "failed".into(),
+        Constant {
+            value: None,
+            span: span(2),
+        },
+    );
+    env.constants.insert(
+        "width".into(),
+        Constant {
+            value: Some(Value::Number(1.0)),
+            span: span(4),
+        },
+    );
+    env.all_lets.insert("later".into(), span(3));
+    assert_eq!(env.number_constant("k"), Some(2.5));
+    assert_eq!(env.number_constant("v"), None);
+    assert_eq!(env.number_constant("nothing"), None);
+    let parsed = |src: &str| {
+        let Item::Let { value, .. } = parse(&format!("let w = {src}"), FileId(0))
+            .unwrap()
+            .remove(0)
+        else {
+            panic!()
+        };
+        value
+    };
+    let mut errors = Vec::new();
+    assert_eq!(
+        env.eval(&parsed("k * v"), &mut errors),
+        Some(Value::Vector(smallvec::smallvec![2.5, 5.0, 7.5]))
+    );
+    // A constant whose definition failed is quiet.
+    assert_eq!(env.eval(&parsed("failed + 1"), &mut errors), None);
+    assert!(errors.is_empty(), "{errors:?}");
+    assert_eq!(env.eval(&parsed("later"), &mut errors), None);
+    assert_eq!(errors[0].message, "unknown name `later`");
+    assert_eq!(
+        errors[0].help.as_deref(),
+        Some("`later` is defined later; a constant can only be used after its `let`")
+    );
+    assert_eq!(env.eval(&parsed("widht + 1"), &mut errors), None);
+    assert_eq!(errors[1].help.as_deref(), Some("did you mean `width`?"));
+    // Closed: every name it uses is bound or built in.
+    for (src, want) in [
+        ("k + 1", true),
+        ("q + 1", false),
+        ("1 + q", false),
+        ("pi * red", true),
+        ("[k, v]", true),
+        ("[k, q]", false),
+        ("<k, q, 1>", false),
+        ("min(k, 1)", true),
+        ("min(k, q)", false),
+        ("f(k, a: 1)", true),
+        ("f(k, a: q)", false),
+        ("-k", true),
+        ("-q", false),
+        ("not q", false),
+        ("v[0]", true),
+        ("v[q]", false),
+        ("q[0]", false),
+        ("#ff0000", true),
+    ] {
+        assert_eq!(is_closed(&env, &parsed(src)), want, "{src}");
+    }
+}
