@@ -706,6 +706,18 @@ fn reserved_names_constants_and_closed_expressions() {
     );
     assert_eq!(env.eval(&parsed("widht + 1"), &mut errors), None);
     assert_eq!(errors[1].help.as_deref(), Some("did you mean `width`?"));
+    // The builder's names hold no user functions: an unknown function
+    // gets the list of the built-ins, no made-up suggestion.
+    assert_eq!(env.eval(&parsed("xyzzx(1)"), &mut errors), None);
+    assert!(
+        errors[2]
+            .help
+            .as_deref()
+            .unwrap()
+            .starts_with("the functions are sqrt"),
+        "{:?}",
+        errors[2].help
+    );
     // Closed: every name it uses is bound or built in.
     for (src, want) in [
         ("k + 1", true),
@@ -729,4 +741,17 @@ fn reserved_names_constants_and_closed_expressions() {
     ] {
         assert_eq!(is_closed(&env, &parsed(src)), want, "{src}");
     }
+}
+
+#[test]
+fn random_is_splitmix64_of_its_two_arguments() {
+    let _watchdog = crate::watchdog::start();
+    // SplitMix64's published first output for the seed 0 is
+    // 0xe220a8397b1dcdaf: mix(0). With seed 0 the inner mix gives it, and
+    // an i whose bits are that number cancels it, so the outer mix is of
+    // 0 again: the number's top 53 bits over 2^53.
+    const FIRST: u64 = 0xe220_a839_7b1d_cdaf;
+    let want = (FIRST >> 11) as f64 / (1u64 << 53) as f64;
+    assert_eq!(random(0.0, f64::from_bits(FIRST)), want);
+    assert_eq!(random(-0.0, f64::from_bits(FIRST)), want);
 }
