@@ -571,6 +571,12 @@ fn calls_bind_arguments_by_place_name_and_default() {
         messages(&format!("{f}let v = f(1, c: 1 / 0)")),
         ["division by zero"]
     );
+    // An argument naming a constant whose definition failed (reported
+    // there) stops the call quietly: no "needs" for the parameter.
+    assert_eq!(
+        messages(&format!("{f}let bad = 1 / 0\nlet v = f(bad)")),
+        ["division by zero"]
+    );
     assert_eq!(
         messages("fn g() { sphere { } }\nlet v = g()"),
         ["`g` makes objects, not a value"]
