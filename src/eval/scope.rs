@@ -196,4 +196,60 @@ mod tests {
         }
         assert_eq!(number(&grandchild, "sphere"), None);
     }
+
+    fn span(start: usize) -> Option<Span> {
+        Some(Span {
+            file: crate::lang::ast::FileId(0),
+            start,
+            end: start + 1,
+        })
+    }
+
+    #[test]
+    fn the_innermost_and_latest_binding_wins_and_lists_see_outwards() {
+        let _watchdog = crate::watchdog::start();
+        let num = |v: f64| Binding::Value(Some(Value::Number(v)));
+        let root = Scope::root();
+        root.bind("a", num(1.0), span(1));
+        root.bind("b", num(2.0), span(2));
+        root.bind("x", num(9.0), span(3));
+        root.bind("c", Binding::Value(Some(Value::Bool(true))), span(4));
+        root.bind("d", Binding::Value(None), span(5));
+        let child = root.child();
+        child.bind("a", num(10.0), span(6));
+        child.bind("e", num(3.0), span(7));
+        child.bind("y", num(8.0), span(9));
+        assert_eq!(number(&child, "a"), Some(10.0), "the inner `a`");
+        assert_eq!(number(&root, "a"), Some(1.0), "the outer one is kept");
+        assert_eq!(number(&child, "b"), Some(2.0), "found outwards");
+        assert_eq!(number(&child, "e"), Some(3.0));
+        assert_eq!(child.with("e", |_| 7), Some(7));
+        assert_eq!(child.with("nowhere", |_| 7), None);
+        // `here`: only this scope, and where the name was first bound.
+        assert_eq!(child.here("a"), Some(span(6)));
+        assert_eq!(child.here("e"), Some(span(7)));
+        assert_eq!(child.here("x"), None, "bound outside");
+        assert_eq!(child.here("b"), None);
+        assert_eq!(root.here("b"), Some(span(2)));
+        assert_eq!(root.here("e"), None);
+        // Every visible name, this scope's first.
+        assert_eq!(child.names(), ["a", "e", "y", "a", "b", "x", "c", "d"]);
+        assert_eq!(root.names(), ["a", "b", "x", "c", "d"]);
+        // The numbers, innermost first and each name once, without the
+        // equations' variables or what is not a number.
+        assert_eq!(
+            child.numbers(),
+            [
+                ("a".to_string(), 10.0),
+                ("e".to_string(), 3.0),
+                ("b".to_string(), 2.0)
+            ]
+        );
+        // The evaluator binds a name once per scope (`is already
+        // defined`); the scope itself still answers with the later one.
+        let other = root.child();
+        other.bind("f", num(3.0), None);
+        other.bind("f", num(4.0), None);
+        assert_eq!(number(&other, "f"), Some(4.0));
+    }
 }

@@ -440,3 +440,167 @@ fn placements_share_one_built_object_and_render_as_copies_would() {
     let s = build("let ball = sphere { }\ndifference { box { }  ball { translate <1, 1, 1> } }");
     assert_eq!(s.objects.len(), 1);
 }
+
+#[test]
+fn loops_run_their_counted_values_and_stop_at_the_limit() {
+    let _watchdog = crate::watchdog::start();
+    let xs = |src: &str| -> Vec<f64> { centres(&build(src)).iter().map(|c| c.x).collect() };
+    let ball = "{ sphere { radius 0.1  centre <i, 0, 0> } }";
+    // Each value a + k·s, up to b (included with `..=`), whole steps only.
+    for (range, want) in [
+        ("0..4", vec![0.0, 1.0, 2.0, 3.0]),
+        ("0..=4", vec![0.0, 1.0, 2.0, 3.0, 4.0]),
+        ("0..4 step 2", vec![0.0, 2.0]),
+        ("0..5 step 2", vec![0.0, 2.0, 4.0]),
+        ("0..=4 step 2", vec![0.0, 2.0, 4.0]),
+        ("1..2 step 0.25", vec![1.0, 1.25, 1.5, 1.75]),
+        ("0..0.5", vec![0.0]),
+        ("0..=0", vec![0.0]),
+        ("0..0", vec![]),
+        ("4..0", vec![]),
+        ("0..-2 step -1", vec![0.0, -1.0]),
+        ("0..=-2 step -1", vec![0.0, -1.0, -2.0]),
+    ] {
+        assert_eq!(xs(&format!("for i in {range} {ball}")), want, "{range}");
+    }
+    assert_eq!(
+        xs(&format!("for i in [3, -1, 0.5] {ball}")),
+        [3.0, -1.0, 0.5]
+    );
+    // `x`, `y` and `z` are not constants: they may name a loop's variable.
+    assert_eq!(build("for x in 0..2 { sphere { } }").objects.len(), 2);
+    // The iteration limit: a loop of exactly the limit runs.
+    let five = Options {
+        limits: Limits {
+            iterations: 5,
+            ..Limits::default()
+        },
+        ..Options::default()
+    };
+    let count = |src: &str| build_with(src, &five).map(|s| s.objects.len());
+    assert_eq!(count("for i in 0..5 { sphere { } }"), Ok(5));
+    assert_eq!(count("for i in [1, 2, 3, 4, 5] { sphere { } }"), Ok(5));
+    let refused = |src: &str| {
+        let e = count(src).unwrap_err();
+        assert_eq!(e.len(), 1, "{e:?}");
+        e[0].0.clone()
+    };
+    assert_eq!(
+        refused("for i in 0..6 { sphere { } }"),
+        "this loop would run 6 times; the limit is 5"
+    );
+    assert_eq!(
+        refused("for i in [1, 2, 3, 4, 5, 6] { sphere { } }"),
+        "this loop would run 6 times; the limit is 5"
+    );
+    // Mistakes in the loop itself.
+    assert_eq!(
+        messages("for i in 0..3 step 0 { }"),
+        ["a loop's step cannot be 0"]
+    );
+    assert_eq!(
+        messages("for i in 0..(1 < 2) { }"),
+        ["a range needs numbers, found a condition (true or false)"]
+    );
+    assert_eq!(
+        messages("for i in (1 < 2)..3 step (1 < 2) { }"),
+        [
+            "a range needs numbers, found a condition (true or false)",
+            "a range needs numbers, found a condition (true or false)"
+        ]
+    );
+    assert_eq!(messages("for i in 3 { }"), ["cannot loop over a number"]);
+    assert_eq!(messages("for pi in 0..3 { }"), ["`pi` is a built-in name"]);
+    // A mistake the evaluator finds in the body: one report, in the
+    // iteration that made it.
+    let e = problems("for i in 0..6 {\n  let k = 1 / (i - 3)\n}");
+    assert_eq!(e.len(), 1, "{e:?}");
+    assert_eq!(e[0].0, "division by zero");
+    assert!(
+        e[0].1
+            .as_deref()
+            .unwrap()
+            .contains("in iteration i = 3 of the loop at "),
+        "{e:?}"
+    );
+}
+
+#[test]
+fn calls_bind_arguments_by_place_name_and_default() {
+    let _watchdog = crate::watchdog::start();
+    // Each parameter a digit of the result: a wrong binding shows.
+    let f = "fn f(a, b = 2, c = a + b) = a * 100 + b * 10 + c\n";
+    let x = |call: &str| {
+        let s = build(&format!(
+            "{f}sphere {{ radius 0.1  centre <{call}, 0, 0> }}"
+        ));
+        centres(&s)[0].x
+    };
+    assert_eq!(x("f(1)"), 123.0);
+    assert_eq!(x("f(1, 5)"), 156.0);
+    assert_eq!(x("f(1, 5, 7)"), 157.0);
+    assert_eq!(x("f(1, c: 9)"), 129.0);
+    assert_eq!(x("f(b: 3, a: 2)"), 235.0);
+    assert_eq!(x("f(2, b: 3)"), 235.0);
+    // Mistakes in a call.
+    assert_eq!(
+        messages(&format!("{f}let v = f(1, 2, 3, 4)")),
+        ["`f` takes 3 arguments, not 4"]
+    );
+    assert_eq!(
+        messages(&format!("{f}let v = f(1, zzzz: 2)")),
+        ["`f` has no parameter `zzzz`"]
+    );
+    let e = problems(&format!("{f}let v = f(1, zzzz: 2)"));
+    assert_eq!(e[0].1.as_deref(), Some("its parameters are `a`, `b`, `c`"));
+    assert_eq!(
+        messages(&format!("{f}let v = f(1, a: 2)")),
+        ["`a` is given twice"]
+    );
+    assert_eq!(
+        messages(&format!("{f}let v = f(b: 1, b: 2, a: 1)")),
+        ["`b` is given twice"]
+    );
+    assert_eq!(messages(&format!("{f}let v = f(b: 1)")), ["`f` needs `a`"]);
+    // A mistake in an argument is the only report.
+    assert_eq!(
+        messages(&format!("{f}let v = f(1 / 0)")),
+        ["division by zero"]
+    );
+    assert_eq!(
+        messages(&format!("{f}let v = f(1, c: 1 / 0)")),
+        ["division by zero"]
+    );
+    // An argument naming a constant whose definition failed (reported
+    // there) stops the call quietly: no "needs" for the parameter.
+    assert_eq!(
+        messages(&format!("{f}let bad = 1 / 0\nlet v = f(bad)")),
+        ["division by zero"]
+    );
+    assert_eq!(
+        messages("fn g() { sphere { } }\nlet v = g()"),
+        ["`g` makes objects, not a value"]
+    );
+    // The depth limit: calls exactly as deep as it run, one more is
+    // refused, and the depth goes back down after each call.
+    let three = Options {
+        limits: Limits {
+            depth: 3,
+            ..Limits::default()
+        },
+        ..Options::default()
+    };
+    let down = "fn down(n) {\n  sphere { }\n  if n > 1 { down(n - 1) }\n}\n\
+                fn v(n) = n\n";
+    let count =
+        |calls: &str| build_with(&format!("{down}{calls}"), &three).map(|s| s.objects.len());
+    assert_eq!(count("down(3)"), Ok(3));
+    assert_eq!(count("down(3)\ndown(3)\ndown(2)"), Ok(8));
+    assert_eq!(
+        count("sphere { radius v(v(v(v(1)))) }\ndown(3)"),
+        Ok(4),
+        "arguments are worked out before the call is entered"
+    );
+    let e = count("down(4)").unwrap_err();
+    assert_eq!(e[0].0, "function calls nest more than 3 deep");
+}
