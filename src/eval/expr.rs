@@ -4,6 +4,8 @@
 //!
 //! Names are looked up through [`Names`]: the evaluator (`eval::Expander`)
 //! gives its scopes and user functions, the builder its leftovers.
+//! One file, the language's values and what works on them; the built-ins
+//! could move out, but `.cargo/mutants.toml` names lines of this file.
 
 use super::colours::{COLOURS, named_colour};
 use crate::lang::ast::{BinOp, Expr, ExprKind, Item, Span, Spanned};
