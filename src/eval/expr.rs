@@ -585,7 +585,7 @@ fn finite(v: Value, e: &Expr, errors: &mut Vec<Error>) -> Option<Value> {
 /// (`/` and `%` only by a divisor that is not 0); `None` for the rest,
 /// which [`binary`] handles and reports.
 #[inline(always)]
-fn arithmetic(op: BinOp, x: f64, y: f64) -> Option<f64> {
+pub(super) fn arithmetic(op: BinOp, x: f64, y: f64) -> Option<f64> {
     Some(match op {
         BinOp::Add => x + y,
         BinOp::Sub => x - y,

@@ -18,6 +18,7 @@
 
 mod calls;
 mod entry;
+mod fast;
 pub use entry::{
     Evaluated, Limits, Options, TopLevel, define_value, evaluate, evaluate_in_parts,
     evaluate_in_parts_bound,
@@ -70,6 +71,18 @@ impl At<'_, '_> {
     /// In a trial, marks it given up and says so.
     fn abandon(&self) -> bool {
         self.trial.inspect(|t| t.set(true)).is_some()
+    }
+
+    /// The number `name` stands for, when it is bound to one or is `pi`
+    /// (what [`expr::eval`] would give it): the fast path's lookup.
+    fn number(&self, name: &str) -> Option<f64> {
+        match self.scope.with(name, |b| match b {
+            Binding::Value(Some(Value::Number(x))) => Some(*x),
+            _ => None,
+        }) {
+            Some(x) => x,
+            None => (name == "pi").then_some(std::f64::consts::PI),
+        }
     }
 }
 
@@ -198,6 +211,24 @@ impl<'p> Expander<'p> {
             return true;
         }
         self.step_checked(span, errors)
+    }
+
+    /// `k` steps at once, for [`fast::value`], when [`Expander::step`]
+    /// would take each of them without a check (no cancel look due, the
+    /// budget not reached): false, with nothing taken, otherwise.
+    fn take_steps(&self, k: u64) -> bool {
+        let n = self.steps.get();
+        let room = 4096 - n % 4096;
+        if self.stopped.get() || n.is_multiple_of(4096) || k >= room {
+            return false;
+        }
+        match n.checked_add(k) {
+            Some(end) if end <= self.options.limits.steps => {
+                self.steps.set(end);
+                true
+            }
+            _ => false,
+        }
     }
 
     /// [`Expander::step`] for an item, whose span (which a loop's items
@@ -773,6 +804,12 @@ impl<'p> Expander<'p> {
             e.kind,
             ExprKind::Number(_) | ExprKind::Hex(_) | ExprKind::Name(_)
         );
+        if !simple && let Some(v) = fast::value(&at, e) {
+            return Expr {
+                kind: ExprKind::Value(v),
+                span: e.span,
+            };
+        }
         if !simple && let Some(kind) = self.closed_value(e, scope, errors) {
             return Expr { kind, span: e.span };
         }

@@ -3,6 +3,8 @@
 //! (`refract { … }`) and emission, and material values from `let`.
 
 use super::*;
+use crate::eval::expr::Value;
+use crate::lang::ast::ExprKind;
 
 impl Builder<'_> {
     pub(super) fn named_material(&mut self, kw: &Spanned<&str>, items: &[Item], i: &mut usize) {
@@ -199,8 +201,26 @@ impl Builder<'_> {
     /// `material NAME` or `material { … }` inside an object.
     pub(super) fn material_value(&mut self, item: &Item) -> Option<crate::scene::MaterialId> {
         if let Item::Block(b) = item {
+            let key = block_key(b);
+            if let Some(id) = key.as_ref().and_then(|k| self.block_materials.get(&k[..])) {
+                return Some(*id);
+            }
+            let said = (self.err_calls, self.errors.len(), self.warnings.len());
             let m = self.material_block(b)?;
-            return Some(self.add_material(m));
+            // Only a plain material (the one kind shared by id) from a
+            // block that said nothing: another block of the same words
+            // would make the same material and say nothing either.
+            let clean = said == (self.err_calls, self.errors.len(), self.warnings.len());
+            let plain = plain_key(&m).is_some();
+            let id = self.add_material(m);
+            if let Some(k) = key
+                && clean
+                && plain
+            {
+                self.block_materials
+                    .insert(k.into_vec().into_boxed_slice(), id);
+            }
+            return Some(id);
         }
         let Some(n) = item.as_name() else {
             self.err(
@@ -231,6 +251,45 @@ impl Builder<'_> {
         self.err(e);
         None
     }
+}
+
+/// A material block's items as words, when they are only the material's
+/// own parameter names and literal or worked-out numbers, vectors and
+/// colours (`colour rgb(0.1, 0.2, 0.3)  diffuse 0.9`): what such a block
+/// makes depends on nothing else, so blocks of the same words make the
+/// same material. `None` for anything else (a pattern, a nested block, a
+/// name the builder would look up, an expression left to it).
+pub(super) fn block_key(b: &Block) -> Option<smallvec::SmallVec<[u64; 16]>> {
+    let mut out = smallvec::SmallVec::new();
+    for item in &b.items {
+        let Item::Value(e) = item else {
+            return None;
+        };
+        match &e.kind {
+            ExprKind::Name(n) if params::MATERIAL.get(params::canonical(n)).is_some() => {
+                // The name as written (`color` and `colour` both read
+                // as `colour`, but a message would quote it): its length,
+                // then its bytes eight to a word.
+                out.push(1 << 32 | n.len() as u64);
+                for w in n.as_bytes().chunks(8) {
+                    let mut word = [0u8; 8];
+                    word[..w.len()].copy_from_slice(w);
+                    out.push(u64::from_le_bytes(word));
+                }
+            }
+            ExprKind::Number(x) => out.extend([2 << 32, x.to_bits()]),
+            ExprKind::Value(Value::Number(x)) => out.extend([3 << 32, x.to_bits()]),
+            ExprKind::Value(Value::Colour(c)) => {
+                out.extend([4 << 32, c.x.to_bits(), c.y.to_bits(), c.z.to_bits()]);
+            }
+            ExprKind::Value(Value::Vector(v)) => {
+                out.push(5 << 32 | v.len() as u64);
+                out.extend(v.iter().map(|x| x.to_bits()));
+            }
+            _ => return None,
+        }
+    }
+    Some(out)
 }
 
 /// FxHash's rotate-multiply over whole words, for [`PlainKey`]s: they are
@@ -335,4 +394,137 @@ fn plain_key(m: &Material) -> Option<PlainKey> {
         emit.z,
     ];
     Some(all.map(f64::to_bits))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::Ray;
+    use glam::DVec3;
+
+    fn checked(text: &str) -> Checked {
+        let program = crate::lang::load_text(std::path::Path::new("t.rt"), text.into())
+            .unwrap_or_else(|_| panic!("parses"));
+        check(&program, &crate::eval::Options::default())
+    }
+
+    /// The material of the object straight below (x, 10, 0).
+    fn material_at(scene: &Scene, x: f64) -> &Material {
+        let ray = Ray::new(DVec3::new(x, 10.0, 0.0), DVec3::NEG_Y);
+        let hit = scene
+            .objects
+            .iter()
+            .filter_map(|o| o.intersect(&ray, 0.0, f64::INFINITY))
+            .min_by(|a, b| a.t.total_cmp(&b.t))
+            .unwrap_or_else(|| panic!("nothing below x = {x}"));
+        &scene.materials[hit.material as usize]
+    }
+
+    /// Blocks a loop writes many times over, each sphere's found again by
+    /// a ray: blocks of the same words share one material, and any
+    /// difference (a parameter's name, a value, a literal against a worked
+    /// out number, `color` for `colour`) gives the material its own words
+    /// say, whichever came first.
+    #[test]
+    fn material_blocks_of_the_same_words_share_a_material_and_no_others_do() {
+        let c = checked(
+            "for i in 0..24 {
+               if i % 4 == 0 {
+                 sphere { centre <3 * i, 0, 0>  radius 1
+                   material { colour rgb(i % 3 / 2, 0.25, 0.5)  diffuse 0.5 } }
+               } else if i % 4 == 1 {
+                 sphere { centre <3 * i, 0, 0>  radius 1
+                   material { colour rgb(i % 3 / 2, 0.25, 0.5)  ambient 0.5 } }
+               } else if i % 4 == 2 {
+                 sphere { centre <3 * i, 0, 0>  radius 1
+                   material { color rgb(i % 3 / 2, 0.25, 0.5)  specular_colour rgb(0.5, 0.5, 0.5)  specular 1  shininess 10 + i % 8 } }
+               } else {
+                 sphere { centre <3 * i, 0, 0>  radius 1
+                   material { colour rgb(i % 3 / 2, 0.25, 0.5)  diffuse 1 / 2 } }
+               }
+             }",
+        );
+        assert!(c.errors.is_empty(), "{:?}", c.errors);
+        for i in 0..24 {
+            let m = material_at(&c.scene, 3.0 * i as f64);
+            let want = Colour::new((i % 3) as f64 / 2.0, 0.25, 0.5);
+            let Texture::Solid(got) = &m.texture else {
+                panic!("{i}: not solid")
+            };
+            assert_eq!(*got, want, "{i}");
+            let d = Material::default();
+            let (diffuse, ambient) = match i % 4 {
+                0 | 3 => (0.5, d.ambient),
+                1 => (d.diffuse, 0.5),
+                _ => (d.diffuse, d.ambient),
+            };
+            assert_eq!((m.diffuse, m.ambient), (diffuse, ambient), "{i}");
+            match (i % 4, &m.phong) {
+                (2, Some(p)) => assert_eq!(p.shininess, 10.0 + (i % 8) as f64, "{i}"),
+                (2, None) => panic!("{i}: no highlight"),
+                (_, p) => assert!(p.is_none(), "{i}"),
+            }
+        }
+        // Three colours with diffuse 0.5 (written two ways), three with
+        // ambient 0.5, six (colour, shininess) pairs of the highlight
+        // (i = 2, 6, …, 22), and the default.
+        assert_eq!(c.scene.materials.len(), 1 + 3 + 3 + 6);
+    }
+
+    /// A block that reports a mistake (an unknown parameter, the material
+    /// still made) is reported where each copy of it is written.
+    #[test]
+    fn every_copy_of_a_block_with_a_mistake_reports_it() {
+        let c = checked(
+            "sphere { centre <0, 0, 0>  radius 1  material { colour rgb(1, 0, 0)  shinyness 3 } }
+             sphere { centre <3, 0, 0>  radius 1  material { colour rgb(1, 0, 0)  shinyness 3 } }",
+        );
+        let lines: std::collections::HashSet<_> = c.errors.iter().map(|e| e.span.start).collect();
+        assert_eq!(lines.len(), 2, "{:?}", c.errors);
+    }
+
+    #[test]
+    fn a_blocks_words_tell_names_numbers_colours_and_vectors_apart() {
+        let key = |text: &str| {
+            let c = crate::lang::load_text(
+                std::path::Path::new("t.rt"),
+                format!("material m {{ {text} }}"),
+            )
+            .unwrap_or_else(|_| panic!("parses"));
+            let Some(Item::Block(b)) = c.items.get(2) else {
+                panic!("{text}: {:?}", c.items)
+            };
+            block_key(b)
+        };
+        // Literal numbers (the evaluator leaves them) and names.
+        let words = [
+            "diffuse 0.5",
+            "ambient 0.5",
+            "diffuse 0.25",
+            "specular_colour 0.5",
+            "specular_color 0.5",
+            "specular 0.5",
+            "mirror 1  diffuse 0.5",
+        ];
+        let keys: Vec<_> = words.iter().map(|w| key(w).expect(w)).collect();
+        for (i, a) in keys.iter().enumerate() {
+            for (j, b) in keys.iter().enumerate() {
+                assert_eq!(a == b, i == j, "{} against {}", words[i], words[j]);
+            }
+        }
+        assert_eq!(
+            key("diffuse 0.5"),
+            key("diffuse   0.5"),
+            "spaces are not words"
+        );
+        // Anything else is not a plain block.
+        for text in [
+            "colour checker { }",
+            "reflect r",
+            "colour \"x.png\"",
+            "normal bumps { }",
+        ] {
+            assert_eq!(key(text), None, "{text}");
+        }
+    }
 }

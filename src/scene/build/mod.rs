@@ -158,6 +158,13 @@ struct Builder<'p> {
     instances: HashMap<InstanceKey, Vec<Arc<dyn crate::shapes::Shape>>>,
     /// Plain materials added so far, by their numbers: equal ones share an id.
     plain_materials: HashMap<materials::PlainKey, super::MaterialId, materials::WordHash>,
+    /// Plain materials by the words of the block that made them
+    /// ([`materials::block_key`]): a loop's `material { colour rgb(…) }`
+    /// built once for each distinct block, not once per object.
+    block_materials: HashMap<Box<[u64]>, super::MaterialId, materials::WordHash>,
+    /// Mistakes reported so far, those already seen included (so that a
+    /// build can tell it met none: [`Builder::errors`] holds each once).
+    err_calls: usize,
 }
 
 /// An object value built for placements: (the value's address, its
@@ -217,12 +224,15 @@ impl<'p> Builder<'p> {
             reported: Default::default(),
             instances: HashMap::new(),
             plain_materials: HashMap::default(),
+            block_materials: HashMap::default(),
+            err_calls: 0,
         }
     }
 
     /// Reports a mistake, saying which loop iteration or call made the
     /// thing it is in.
     fn err(&mut self, mut e: Error) {
+        self.err_calls += 1;
         if !self.reported.insert((e.span, e.message.clone())) {
             return;
         }

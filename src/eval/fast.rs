@@ -1,0 +1,511 @@
+//! The evaluator's short cut for the expressions a loop's body is made of:
+//! arithmetic on numbers and bound names, vectors of them, and numeric
+//! built-ins (`centre <-20 + 0.1 * i, 0.05, j>`, `rgb(i % 10 / 10, …)`),
+//! worked out with plain `f64`s instead of a `Value` per node.
+//!
+//! It answers only where the general walk ([`expr::eval`]) would answer
+//! the same with no message, and otherwise gives up having changed
+//! nothing: a name bound to anything but a number, a division by zero, a
+//! result that is not finite, a user function, a step budget due a check.
+//! The walk then does the expression again, with its messages. So it
+//! changes no result and no step count, only the time: the walk's nodes
+//! each return a 40-byte `Value` through memory and look their name up
+//! one scope at a time, about half of `many`'s evaluation.
+
+use super::*;
+use crate::lang::ast::BinOp;
+
+/// `e`'s value when the short cut can tell it (see the module's doc),
+/// its steps counted as the walk would count them.
+pub(super) fn value(at: &At, e: &Expr) -> Option<Value> {
+    let mut steps = 0;
+    let v = match &e.kind {
+        ExprKind::Vector(parts) => {
+            steps += 1;
+            let mut out = expr::Components::with_capacity(parts.len());
+            for p in parts {
+                out.push(number(at, p, &mut steps)?);
+            }
+            Value::Vector(out)
+        }
+        ExprKind::Call { name, args, named } => {
+            steps += 1;
+            call(at, &name.node, args, named, &mut steps)?
+        }
+        _ => Value::Number(number(at, e, &mut steps)?),
+    };
+    at.ex.take_steps(steps).then_some(v)
+}
+
+/// A numeric expression's value; `steps` counts its nodes.
+fn number(at: &At, e: &Expr, steps: &mut u64) -> Option<f64> {
+    *steps += 1;
+    match &e.kind {
+        ExprKind::Number(v) if v.is_finite() => Some(*v),
+        ExprKind::Name(n) => at.number(n),
+        ExprKind::Value(Value::Number(x)) | ExprKind::Bound(_, Some(Value::Number(x))) => Some(*x),
+        ExprKind::Neg(x) => number(at, x, steps).map(|v| -v),
+        ExprKind::Call { name, args, named } => match call(at, &name.node, args, named, steps)? {
+            Value::Number(x) => Some(x),
+            _ => None,
+        },
+        ExprKind::Binary { op, lhs, rhs }
+            if matches!(
+                op,
+                BinOp::Add | BinOp::Sub | BinOp::Mul | BinOp::Div | BinOp::Pow | BinOp::Rem
+            ) =>
+        {
+            let a = number(at, lhs, steps)?;
+            let b = number(at, rhs, steps)?;
+            let v = match op {
+                BinOp::Rem if b != 0.0 => rem(a, b),
+                _ => expr::arithmetic(*op, a, b)?,
+            };
+            v.is_finite().then_some(v)
+        }
+        _ => None,
+    }
+}
+
+/// `x % y` as [`expr::arithmetic`] gives it, for y ≠ 0: integers below
+/// 2⁵³ (`i % 10`) told apart by a round trip through `i64` rather than
+/// by `fract`, which is a call into libm on the machines without SSE4.1
+/// that the binary is built for.
+fn rem(x: f64, y: f64) -> f64 {
+    const EXACT: f64 = (1u64 << 53) as f64;
+    if x.abs() < EXACT && y.abs() < EXACT {
+        let (a, b) = (x as i64, y as i64);
+        if a as f64 == x && b as f64 == y {
+            // `fmod`'s remainder has the sign of `x`, a zero one included.
+            let r = match a % b {
+                0 => 0.0f64.copysign(x),
+                r => r as f64,
+            };
+            return if r < 0.0 { r + y.abs() } else { r };
+        }
+    }
+    expr::arithmetic(BinOp::Rem, x, y).unwrap_or(f64::NAN)
+}
+
+/// A call of a numeric built-in with numbers (its node's step counted by
+/// the caller).
+fn call(
+    at: &At,
+    name: &str,
+    args: &[Expr],
+    named: &[(Spanned<String>, Expr)],
+    steps: &mut u64,
+) -> Option<Value> {
+    let f = builtin(name)?;
+    if !named.is_empty() || args.len() != f.arity() || at.scope.with(name, |_| ()).is_some() {
+        return None;
+    }
+    let mut x = [0.0; 3];
+    for (x, a) in x.iter_mut().zip(args) {
+        *x = number(at, a, steps)?;
+    }
+    f.apply(x)
+}
+
+/// The numeric built-ins (those of vectors and lists read their
+/// arguments' kinds and are left to the walk).
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Builtin {
+    Sqrt,
+    Sin,
+    Cos,
+    Tan,
+    Rad,
+    Deg,
+    Abs,
+    Min,
+    Max,
+    Rgb,
+    Exp,
+    Log,
+    Floor,
+    Ceil,
+    Round,
+    Atan2,
+    Clamp,
+    Random,
+}
+
+/// The built-in `name` names, by its bytes: a `match` on `&str` compares
+/// each arm with `memcmp`, and `rgb` is the tenth.
+fn builtin(name: &str) -> Option<Builtin> {
+    use Builtin::*;
+    Some(match name.as_bytes() {
+        b"rgb" => Rgb,
+        b"sqrt" => Sqrt,
+        b"sin" => Sin,
+        b"cos" => Cos,
+        b"tan" => Tan,
+        b"rad" => Rad,
+        b"deg" => Deg,
+        b"abs" => Abs,
+        b"min" => Min,
+        b"max" => Max,
+        b"exp" => Exp,
+        b"log" => Log,
+        b"floor" => Floor,
+        b"ceil" => Ceil,
+        b"round" => Round,
+        b"atan2" => Atan2,
+        b"clamp" => Clamp,
+        b"random" => Random,
+        _ => return None,
+    })
+}
+
+impl Builtin {
+    fn arity(self) -> usize {
+        use Builtin::*;
+        match self {
+            Rgb | Clamp => 3,
+            Min | Max | Atan2 | Random => 2,
+            _ => 1,
+        }
+    }
+
+    /// `expr::call`'s answer for numbers `x` (unused places 0), or `None`
+    /// where it would write a message (a negative colour component, the
+    /// square root of a negative number, a result that is not finite).
+    fn apply(self, x: [f64; 3]) -> Option<Value> {
+        use Builtin::*;
+        let n = match self {
+            Rgb => {
+                if x.iter().any(|c| *c < 0.0) {
+                    return None;
+                }
+                let c = crate::scene::Colour::new(x[0], x[1], x[2]);
+                return c.is_finite().then_some(Value::Colour(c));
+            }
+            Sqrt if x[0] >= 0.0 => x[0].sqrt(),
+            Log if x[0] > 0.0 => x[0].ln(),
+            Sqrt | Log => return None,
+            Sin => x[0].sin(),
+            Cos => x[0].cos(),
+            Tan => x[0].tan(),
+            Rad => x[0].to_radians(),
+            Deg => x[0].to_degrees(),
+            Abs => x[0].abs(),
+            Min => x[0].min(x[1]),
+            Max => x[0].max(x[1]),
+            Exp => x[0].exp(),
+            Floor => x[0].floor(),
+            Ceil => x[0].ceil(),
+            Round => x[0].round(),
+            Atan2 => x[0].atan2(x[1]),
+            Clamp => x[0].max(x[1]).min(x[2]),
+            Random => expr::random(x[0], x[1]),
+        };
+        n.is_finite().then_some(Value::Number(n))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::lang::ast::Item;
+
+    /// An expander over an empty program, and the expression `text`.
+    fn parsed(text: &str) -> (crate::lang::Program, Expr) {
+        let program =
+            crate::lang::load_text(std::path::Path::new("t.rt"), format!("let e = {text}"))
+                .unwrap_or_else(|_| panic!("{text} parses"));
+        let Some(Item::Let { value, .. }) = program.items.first() else {
+            panic!("{text}: not a let");
+        };
+        let e = (**value).clone();
+        (program, e)
+    }
+
+    fn expander<'p>(program: &'p crate::lang::Program, options: &'p Options) -> Expander<'p> {
+        Expander {
+            program,
+            transfer: Transfer::Srgb,
+            options,
+            steps: Cell::new(1),
+            objects: Cell::new(0),
+            depth: Cell::new(0),
+            stopped: Cell::new(false),
+            context: RefCell::new(None),
+            known: RefCell::new(Vec::new()),
+            used_defines: RefCell::new(Vec::new()),
+        }
+    }
+
+    /// i = 7, j = 3, h = 0.5, v = <1, 2, 3>, c a colour, f a function;
+    /// `u` and `w` are unbound.
+    fn scope() -> Rc<Scope> {
+        let s = Scope::root();
+        let bind = |n: &str, v: Value| s.bind(n, Binding::Value(Some(v)), None);
+        bind("i", Value::Number(7.0));
+        bind("j", Value::Number(3.0));
+        bind("h", Value::Number(0.5));
+        bind("v", Value::Vector(smallvec::smallvec![1.0, 2.0, 3.0]));
+        bind("c", Value::Colour(crate::scene::Colour::new(0.1, 0.2, 0.3)));
+        let (program, _) = parsed("1");
+        let f = crate::lang::load_text(std::path::Path::new("f.rt"), "fn rgb2(x) = x".into())
+            .expect("parses");
+        let Some(Item::Fn(def)) = f.items.first() else {
+            panic!("not a fn")
+        };
+        drop(program);
+        s.bind("sin2", Binding::Function(def.clone(), s.clone()), None);
+        s
+    }
+
+    /// What the walk and the short cut give for `text`, each from a fresh
+    /// step count: (walk's value, its messages, its steps) and (short
+    /// cut's value, its steps).
+    #[allow(clippy::type_complexity)]
+    fn both(text: &str, scope: &Rc<Scope>) -> ((Option<Value>, usize, u64), (Option<Value>, u64)) {
+        let (program, e) = parsed(text);
+        let options = Options::default();
+        let ex = expander(&program, &options);
+        let at = ex.at(scope);
+        let mut errors = Vec::new();
+        let walk = expr::eval(&at, &e, &mut errors);
+        let walk_steps = ex.steps.get() - 1;
+        let ex = expander(&program, &options);
+        let at = ex.at(scope);
+        let fast = value(&at, &e);
+        ((walk, errors.len(), walk_steps), (fast, ex.steps.get() - 1))
+    }
+
+    /// Bit for bit, -0 and NaN included (`Debug` writes `-0.0`).
+    fn same(a: &Value, b: &Value) -> bool {
+        format!("{a:?}") == format!("{b:?}")
+    }
+
+    #[test]
+    fn a_loops_expressions_take_the_short_cut_and_agree_with_the_walk() {
+        let s = scope();
+        for text in [
+            "-20 + 0.1 * i",
+            "<-20 + 0.1 * i, 0.05, -5 + 0.1 * j>",
+            "rgb(i % 10 / 10, j % 10 / 10, 0.5)",
+            "2 ^ 10 - -i",
+            "sqrt(i * j) + sin(pi / 6) + min(i, j) + clamp(h, 0, 0.25)",
+            "random(i, j) + atan2(-1, -h) + floor(-h) + round(h) + abs(-j)",
+            "log(i) + exp(h) + cos(j) + tan(h) + rad(90) + deg(pi) + max(i, 1) + ceil(h)",
+            "-7 % 3 + 7 % -3",
+        ] {
+            let ((walk, errors, walk_steps), (fast, fast_steps)) = both(text, &s);
+            let fast = fast.unwrap_or_else(|| panic!("{text}: no short cut"));
+            let walk = walk.unwrap_or_else(|| panic!("{text}: no value"));
+            assert!(same(&fast, &walk), "{text}: {fast:?} against {walk:?}");
+            assert_eq!(errors, 0, "{text}");
+            assert_eq!(fast_steps, walk_steps, "{text}");
+        }
+    }
+
+    #[test]
+    fn whatever_the_walk_would_report_or_cannot_give_a_number_is_left_to_it() {
+        let s = scope();
+        for text in [
+            "1 / (i - 7)",   // division by zero
+            "i % 0",         // remainder by zero
+            "10 ^ 400",      // not finite
+            "sqrt(-i)",      // a message of the built-in
+            "log(0)",        // likewise
+            "rgb(-h, 0, 0)", // a negative component
+            "rgb(1e308 * 10, 0, 0)",
+            "u + 1",      // unbound
+            "v * 2",      // a vector
+            "c",          // a colour
+            "i < j",      // a condition
+            "dot(v, v)",  // a built-in of vectors
+            "rgb(1, 2)",  // the wrong count
+            "sin2(1)",    // a user function
+            "sqrt(x: 1)", // a named argument
+            "<i, v>",     // a vector in a vector
+            "[i, j]",     // a list
+        ] {
+            let ((_, _, walk_steps), (fast, fast_steps)) = both(text, &s);
+            assert!(fast.is_none(), "{text}: {fast:?}");
+            assert_eq!(fast_steps, 0, "{text}: steps {fast_steps} of {walk_steps}");
+        }
+    }
+
+    #[test]
+    fn a_call_of_a_shadowed_built_in_is_left_to_the_walk() {
+        let s = scope();
+        s.bind("min", Binding::Value(Some(Value::Number(1.0))), None);
+        let (_, (fast, _)) = both("min(i, j)", &s);
+        assert!(fast.is_none());
+    }
+
+    /// Expressions from a small grammar of numbers, names (bound to
+    /// numbers or not), operators, calls and vectors, 4000 of them: where
+    /// the short cut answers, the walk answers the same, bit for bit,
+    /// without a message, in as many steps; where it does not, it took
+    /// no step.
+    #[test]
+    fn random_expressions_agree_with_the_walk_wherever_the_short_cut_answers() {
+        let s = scope();
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut next = move |n: u64| {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state % n
+        };
+        fn grow(next: &mut dyn FnMut(u64) -> u64, depth: u32) -> String {
+            const ATOMS: [&str; 13] = [
+                "0", "1", "2", "0.5", "1e300", "-3", "i", "j", "h", "pi", "u", "v", "c",
+            ];
+            const OPS: [&str; 8] = ["+", "-", "*", "/", "%", "^", "<", "=="];
+            const CALLS: [(&str, usize); 8] = [
+                ("rgb", 3),
+                ("sqrt", 1),
+                ("log", 1),
+                ("min", 2),
+                ("clamp", 3),
+                ("random", 2),
+                ("dot", 2),
+                ("sin2", 1),
+            ];
+            if depth == 0 {
+                return ATOMS[next(ATOMS.len() as u64) as usize].to_string();
+            }
+            match next(6) {
+                0 => ATOMS[next(ATOMS.len() as u64) as usize].to_string(),
+                1 => format!("-({})", grow(next, depth - 1)),
+                2 => {
+                    let (f, n) = CALLS[next(CALLS.len() as u64) as usize];
+                    let args: Vec<_> = (0..n).map(|_| grow(next, depth - 1)).collect();
+                    format!("{f}({})", args.join(", "))
+                }
+                3 => {
+                    let parts: Vec<_> = (0..3).map(|_| grow(next, depth - 1)).collect();
+                    format!("<{}>", parts.join(", "))
+                }
+                _ => format!(
+                    "({} {} {})",
+                    grow(next, depth - 1),
+                    OPS[next(OPS.len() as u64) as usize],
+                    grow(next, depth - 1)
+                ),
+            }
+        }
+        let (mut answered, mut numbers, mut colours) = (0, 0, 0);
+        for _ in 0..4000 {
+            let depth = 1 + next(4) as u32;
+            // One in eight a colour, as a material's `colour rgb(…)`.
+            let text = match next(8) {
+                0 => format!(
+                    "rgb({}, {}, {})",
+                    grow(&mut next, depth - 1),
+                    grow(&mut next, depth - 1),
+                    grow(&mut next, depth - 1)
+                ),
+                _ => grow(&mut next, depth),
+            };
+            let ((walk, errors, walk_steps), (fast, fast_steps)) = both(&text, &s);
+            match fast {
+                Some(f) => {
+                    answered += 1;
+                    match f {
+                        Value::Number(_) => numbers += 1,
+                        Value::Colour(_) => colours += 1,
+                        _ => {}
+                    }
+                    let w = walk.unwrap_or_else(|| panic!("{text}: the walk gave nothing"));
+                    assert!(same(&f, &w), "{text}: {f:?} against {w:?}");
+                    assert_eq!(errors, 0, "{text}");
+                    assert_eq!(fast_steps, walk_steps, "{text}");
+                }
+                None => assert_eq!(fast_steps, 0, "{text}"),
+            }
+        }
+        // Not a test of nothing: a good share of them took the short cut.
+        assert!(
+            answered > 800 && numbers > 400 && colours > 50,
+            "{answered} {numbers} {colours}"
+        );
+    }
+
+    #[test]
+    fn remainders_are_the_walks_bit_for_bit() {
+        let e = (1u64 << 53) as f64;
+        let xs = [
+            0.0,
+            -0.0,
+            1.0,
+            -1.0,
+            7.0,
+            -7.0,
+            10.0,
+            0.5,
+            -2.5,
+            3.75,
+            e - 1.0,
+            -(e - 1.0),
+            e,
+            -e,
+            e + 2.0,
+            1e300,
+            -1e300,
+            123456789.0,
+        ];
+        for &x in &xs {
+            for &y in &xs {
+                if y == 0.0 {
+                    continue;
+                }
+                let want = expr::arithmetic(BinOp::Rem, x, y).expect("y is not 0");
+                assert_eq!(rem(x, y).to_bits(), want.to_bits(), "{x} % {y}");
+            }
+        }
+    }
+
+    #[test]
+    fn the_built_ins_it_knows_are_those_of_numbers_with_their_counts() {
+        for &(name, arity) in expr::FUNCTIONS {
+            match builtin(name) {
+                Some(f) => assert_eq!(f.arity(), arity, "{name}"),
+                None => assert!(
+                    matches!(
+                        name,
+                        "normalize" | "length" | "dot" | "cross" | "len" | "lerp"
+                    ),
+                    "{name}"
+                ),
+            }
+        }
+        for name in ["rg", "rgbb", "Rgb", "sqr", "f", ""] {
+            assert_eq!(builtin(name), None, "{name}");
+        }
+    }
+
+    #[test]
+    fn steps_are_taken_at_once_only_where_each_would_be_taken_without_a_check() {
+        let (program, _) = parsed("1");
+        let mut options = Options::default();
+        options.limits.steps = 10_000;
+        let ex = expander(&program, &options);
+        // From 1: up to 4095 without reaching the cancel look at 4096.
+        assert!(ex.take_steps(4094));
+        assert_eq!(ex.steps.get(), 4095);
+        assert!(!ex.take_steps(1), "4095 + 1 lands on the look");
+        ex.steps.set(4097);
+        assert!(!ex.take_steps(4095));
+        assert!(ex.take_steps(4094));
+        // The budget: up to it, not past it.
+        ex.steps.set(9990);
+        assert!(!ex.take_steps(11));
+        assert!(ex.take_steps(10));
+        assert_eq!(ex.steps.get(), 10_000);
+        ex.steps.set(8193);
+        ex.stopped.set(true);
+        assert!(!ex.take_steps(1));
+        ex.stopped.set(false);
+        ex.steps.set(8192);
+        assert!(!ex.take_steps(1), "a look due now");
+        ex.steps.set(u64::MAX - 2);
+        assert!(!ex.take_steps(1));
+    }
+}
