@@ -47,14 +47,6 @@ fn filter_bits(name: &str) -> u64 {
     (1u64 << (h >> 26)) | (1u64 << ((h >> 20) & 63))
 }
 
-/// `a == b` for names, the first byte looked at before the rest: most
-/// names a lookup passes differ in length or first letter (`i` against
-/// `j`), and `==` on two strings of one length is a call to `memcmp`.
-#[inline(always)]
-fn same_name(a: &str, b: &str) -> bool {
-    a.len() == b.len() && a.as_bytes().first() == b.as_bytes().first() && a == b
-}
-
 impl Scope {
     pub(super) fn root() -> Rc<Scope> {
         Rc::new(Scope {
@@ -107,7 +99,7 @@ impl Scope {
                 .borrow()
                 .iter()
                 .rev()
-                .find(|(n, ..)| same_name(n, name))
+                .find(|(n, ..)| crate::lang::ast::same_name(n, name))
             {
                 return Some(f(b));
             }

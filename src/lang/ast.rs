@@ -276,6 +276,16 @@ pub struct Expr {
 /// keyword it passes on (`sphere`, `radius`, … once per loop iteration).
 pub type Name = std::sync::Arc<str>;
 
+/// `a == b` for names and keywords, the first byte looked at before the
+/// rest: most names a lookup passes differ in length or first letter
+/// (`i` against `j`, `radius` against `centre`), and `==` on two strings
+/// of one length is a call to `memcmp`. The evaluator's scopes and the
+/// builder's parameter lists are searched by name this way.
+#[inline(always)]
+pub fn same_name(a: &str, b: &str) -> bool {
+    a.len() == b.len() && a.as_bytes().first() == b.as_bytes().first() && a == b
+}
+
 #[derive(Clone, Debug, PartialEq)]
 pub enum ExprKind {
     Number(f64),
@@ -418,6 +428,19 @@ mod tests {
                 ..
             } => assert!(matches!(lhs.kind, ExprKind::Neg(_))),
             k => panic!("{k:?}"),
+        }
+    }
+
+    #[test]
+    fn same_name_is_string_equality() {
+        let names = [
+            "", "i", "j", "ii", "radius", "radial", "centre", "Centre", "rgb", "rgc",
+        ];
+        for a in names {
+            for b in names {
+                // Copies, so that equal names are never the same pointer.
+                assert_eq!(same_name(&a.to_string(), &b.to_string()), a == b, "{a} {b}");
+            }
         }
     }
 }

@@ -84,13 +84,7 @@ pub fn is_transform(name: &str) -> bool {
 
 impl Schema {
     pub fn get(&self, name: &str) -> Option<&'static Spec> {
-        // The first byte before the rest: `==` on names of one length is
-        // a call to memcmp, and most names in a schema differ at once.
-        let same = |s: &&Spec| {
-            s.name.len() == name.len()
-                && s.name.as_bytes().first() == name.as_bytes().first()
-                && s.name == name
-        };
+        let same = |s: &&Spec| crate::lang::ast::same_name(s.name, name);
         self.own.iter().find(same).or_else(|| {
             if !self.object {
                 return None;
@@ -388,7 +382,10 @@ pub struct Params<'a> {
 impl<'a> Params<'a> {
     /// Takes the parameter (at most one remains of each non-repeating name).
     pub fn take(&mut self, name: &str) -> Option<Param<'a>> {
-        let k = self.list.iter().position(|p| p.name.node == name)?;
+        let k = self
+            .list
+            .iter()
+            .position(|p| crate::lang::ast::same_name(p.name.node, name))?;
         Some(self.list.remove(k))
     }
 
