@@ -439,7 +439,8 @@ mod tests {
         for a in names {
             for b in names {
                 // Copies, so that equal names are never the same pointer.
-                assert_eq!(same_name(&a.to_string(), &b.to_string()), a == b, "{a} {b}");
+                let (x, y) = (String::from(a), String::from(b));
+                assert_eq!(same_name(&x, &y), a == b, "{a} {b}");
             }
         }
     }
