@@ -632,11 +632,38 @@ fn the_stacks_hold_the_deepest_tree() {
     assert!(seen.iter().all(|&s| s));
 }
 
+/// The items of the leaves whose cells meet `q` grown by `tol`.
+fn leaf_items_near(t: &KdTree, q: &Aabb, tol: f64) -> Vec<u32> {
+    let near = Aabb::new(q.min - tol, q.max + tol);
+    let mut held = Vec::new();
+    let mut stack = vec![(0usize, t.bounds())];
+    while let Some((i, cell)) = stack.pop() {
+        if !(cell.min.cmple(near.max).all() && cell.max.cmpge(near.min).all()) {
+            continue;
+        }
+        let n = t.nodes[i];
+        if n.is_leaf() {
+            let (count, off) = ((n.a >> 2) as usize, n.b as usize);
+            held.extend_from_slice(&t.items[off..off + count]);
+        } else {
+            let (axis, split) = ((n.a & 3) as usize, f32::from_bits(n.b) as f64);
+            let (mut b, mut a) = (cell, cell);
+            b.max[axis] = split;
+            a.min[axis] = split;
+            stack.extend([(i + 1, b), ((n.a >> 2) as usize, a)]);
+        }
+    }
+    held.sort();
+    held.dedup();
+    held
+}
+
 /// `overlapping` compares a split plane with a slack relative to the
-/// coordinates (1e-9 of them): a box ending or starting within rounding
-/// of a plane (1e-11 of it) on the other side visits both sides; a box
-/// clear of it (a thousandth) visits its own side only. Boxes near 10⁴,
-/// so that the slack is far from both.
+/// coordinates (1e-9 of them, 10⁻⁵ here): a box ending or starting within
+/// rounding of the root's plane (10⁻⁷ from it) on the other side visits
+/// the leaves across it that come within 10⁻⁶ of it; a box clear of it (a
+/// thousandth) visits no leaf farther than 10⁻⁴ from it. Boxes near 10⁴,
+/// so that the slack is far from both gaps.
 #[test]
 fn a_box_within_rounding_of_a_plane_visits_both_sides() {
     let _watchdog = crate::watchdog::start();
@@ -649,7 +676,13 @@ fn a_box_within_rounding_of_a_plane_visits_both_sides() {
     assert!(!n.is_leaf());
     let (axis, s) = ((n.a & 3) as usize, f32::from_bits(n.b) as f64);
     assert!((1e4 + 1.0..=1e4 + 2.0).contains(&s), "{s}");
-    let visits = |lo: f64, hi: f64| {
+    let (near, clear) = (s * 1e-11, 1e-3);
+    for (lo, hi) in [
+        (s - 1.5, s - near),
+        (s + near, s + 1.5),
+        (s - 1.5, s - clear),
+        (s + clear, s + 1.5),
+    ] {
         let mut q = t.bounds();
         (q.min[axis], q.max[axis]) = (lo, hi);
         let mut seen = Vec::new();
@@ -658,13 +691,13 @@ fn a_box_within_rounding_of_a_plane_visits_both_sides() {
             true
         }));
         seen.sort();
-        seen
-    };
-    let (near, clear) = (s * 1e-11, 1e-3);
-    assert_eq!(visits(s - 1.5, s - near), vec![0, 1]);
-    assert_eq!(visits(s + near, s + 1.5), vec![0, 1]);
-    assert_eq!(visits(s - 1.5, s - clear), vec![0]);
-    assert_eq!(visits(s + clear, s + 1.5), vec![1]);
+        seen.dedup();
+        let (must, may) = (leaf_items_near(&t, &q, 1e-6), leaf_items_near(&t, &q, 1e-4));
+        assert!(
+            must.iter().all(|i| seen.contains(i)) && seen.iter().all(|i| may.contains(i)),
+            "[{lo}, {hi}] in axis {axis}: visits {seen:?}, must {must:?}, may {may:?}"
+        );
+    }
 }
 
 /// Boxes that are empty (min above max, finite or not) or unbounded (an
@@ -790,4 +823,60 @@ fn clipped_builds_hold_each_segment_only_where_it_runs() {
             plain.items.len()
         );
     }
+}
+
+/// A flat grid of cells in z = 0, each a half-open square `[x, x + 1) ×
+/// [y, y + 1)` whose hit is found as a surface's would be (by division,
+/// not the walk's reciprocal): rays aimed exactly at the grid's inner
+/// corners, which lie on split planes, from near and far (10⁴, 10⁵
+/// away). The tree's box is flat, so a ray's segment is a point, and the
+/// plane's `t` rounds differently from the surface's: only the walk's
+/// slack (1e-9 of the farthest `t`) sends such a ray to both sides, where
+/// one cell holds the corner. Every ray hits, at brute force's `t`.
+#[test]
+fn rays_at_corners_on_split_planes_hit_a_flat_grid() {
+    let _watchdog = crate::watchdog::start();
+    let n = 8;
+    let cell = |k: u32| {
+        let (x, y) = ((k % n) as f64 + 0.5, (k / n) as f64 - 3.0);
+        (x, y)
+    };
+    let boxes: Vec<Aabb> = (0..n * n)
+        .map(|k| {
+            let (x, y) = cell(k);
+            Aabb::new(DVec3::new(x, y, 0.0), DVec3::new(x + 1.0, y + 1.0, 0.0))
+        })
+        .collect();
+    let t = KdTree::build(&boxes);
+    let hit = |k: u32, ray: &Ray, best: f64| {
+        let s = -ray.origin.z / ray.dir.z;
+        let p = ray.origin + ray.dir * s;
+        let (x, y) = cell(k);
+        (s > 0.0 && s < best && x <= p.x && p.x < x + 1.0 && y <= p.y && p.y < y + 1.0).then_some(s)
+    };
+    let mut rng = Rng(11);
+    let (mut rays, mut missed) = (0, 0);
+    for far in [5.0, 1e4, 1e5] {
+        for _ in 0..40 {
+            let eye = DVec3::new(
+                rng.range(-far, far),
+                rng.range(-far, far),
+                far * rng.range(0.5, 1.5),
+            );
+            for i in 1..n {
+                for j in 1..n {
+                    let corner = DVec3::new(i as f64 + 0.5, j as f64 - 3.0, 0.0);
+                    let ray = Ray::new(eye, (corner - eye).normalize());
+                    let want = (0..n * n)
+                        .filter_map(|k| hit(k, &ray, f64::INFINITY))
+                        .min_by(f64::total_cmp);
+                    assert!(want.is_some(), "{ray:?}: no cell holds the corner");
+                    let got = t.nearest(&ray, 0.0, f64::INFINITY, |k, best| hit(k, &ray, best));
+                    rays += 1;
+                    missed += (got != want) as usize;
+                }
+            }
+        }
+    }
+    assert_eq!(missed, 0, "of {rays} rays");
 }
