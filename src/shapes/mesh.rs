@@ -673,10 +673,12 @@ fn welded_indices(positions: &[DVec3]) -> Vec<u32> {
 /// A closed mesh's crossings for CSG, which must alternate entering and
 /// leaving. Each triangle's winding tells the way (its geometric normal;
 /// a smooth normal can disagree near a silhouette), and a mesh wound
-/// inwards is recognised by the sign of the volume it encloses (not by
-/// its first clear crossing: a line can enter through a saddle vertex,
-/// whose triangles face both ways, and then the first clear crossing is
-/// where it leaves; a flat closed mesh, of volume 0, falls back on that).
+/// inwards is recognised by its first crossing when that is clear (a
+/// closed surface is entered first; this also holds a mesh whose parts
+/// are wound different ways), else by the sign of the volume it encloses:
+/// a line can enter through a saddle vertex, whose triangles face both
+/// ways, and then the first clear crossing is where it leaves (a mesh
+/// enclosing no volume falls back on that crossing).
 /// Triangles met at one point (the two sharing an edge,
 /// the fan around a vertex: the watertight test reports each of them) are
 /// taken as one group:
@@ -721,13 +723,15 @@ fn solid_crossings(
         }
         i = j;
     }
-    // A clear group's facing that means entering.
-    let Some(first) = groups.iter().find(|g| g.2 != 0.0) else {
+    // A clear group's facing that means entering: the first group's,
+    // when it is clear (a closed surface is entered first); after a mixed
+    // group (a touch, or a saddle vertex crossed through) the winding's.
+    let Some(first) = groups.iter().position(|g| g.2 != 0.0) else {
         return;
     };
-    let enter_sign = match d.entering_facing() {
-        0.0 => first.2,
-        s => s,
+    let enter_sign = match (first, d.entering_facing()) {
+        (0, _) | (_, 0.0) => groups[first].2,
+        (_, s) => s,
     };
     let mut inside = false;
     for (g, &(a, b, sign)) in groups.iter().enumerate() {

@@ -5,7 +5,7 @@
 //! and the kd-tree's clipping of triangles a rounding outside a small
 //! cell far from the origin.
 
-use super::tests::each_index;
+use super::tests::{box_mesh, each_index};
 use super::*;
 
 /// An L-shaped prism scaled by `s`: the L (0,0), (2,0), (2,1), (1,1),
@@ -49,20 +49,39 @@ fn l_prism(s: f64, y_wall_first: bool) -> (Vec<DVec3>, Vec<[u32; 3]>) {
 /// still the line crosses. It leaves through x = 0 at (0, 3/2, 1). Both
 /// ways along it, the crossings are that entry and that exit, and the one
 /// at the corner has the outward normal of one of the corner's faces that
-/// faces the way it is crossed (not a face turned over).
+/// faces the way it is crossed (not a face turned over): at two scales,
+/// wound either way, and far from the origin.
 #[test]
 fn a_line_through_a_saddle_corner_crosses_there() {
     let _watchdog = crate::watchdog::start();
     let corner_faces = [-DVec3::Z, DVec3::X, DVec3::Y];
-    for s in [0.25, 4.0] {
+    // Small and large; wound inwards; and 10⁸ from the origin, where the
+    // winding's volume summed about the origin (or any far point) would
+    // cancel to rounding of 10⁸ times the volume.
+    let mut cases = vec![
+        (0.25, DVec3::ZERO, false),
+        (4.0, DVec3::ZERO, false),
+        (0.25, DVec3::ZERO, true),
+    ];
+    for k in 0..6 {
+        let far = DVec3::new(1e8 + 3e7 * k as f64, -7e7 + 1e7 * k as f64, 4e7);
+        cases.extend([(1.0, far, false), (1.0, far, true)]);
+    }
+    for (s, at, inward) in cases {
         for y_wall_first in [false, true] {
-            let (pos, tris) = l_prism(s, y_wall_first);
+            let (pos, mut tris) = l_prism(s, y_wall_first);
+            let pos: Vec<DVec3> = pos.iter().map(|&p| at + p).collect();
+            if inward {
+                tris = tris.iter().map(|&[a, b, c]| [a, c, b]).collect();
+            }
             for (name, d) in each_index(&pos, &tris) {
-                let name = format!("{name}, scale {s}, y wall first {y_wall_first}");
+                let name = format!(
+                    "{name}, scale {s} at {at}, inward {inward}, y wall first {y_wall_first}"
+                );
                 let mesh = Mesh::new(Arc::new(d), false, 0);
                 assert!(mesh.is_solid(), "{name}");
-                let corner = s * DVec3::new(1.0, 1.0, 0.0);
-                let exit = s * DVec3::new(0.0, 1.5, 1.0);
+                let corner = at + s * DVec3::new(1.0, 1.0, 0.0);
+                let exit = at + s * DVec3::new(0.0, 1.5, 1.0);
                 let dir = DVec3::new(-1.0, 0.5, 1.0);
                 for (from, dir, at) in [(corner, dir, [corner, exit]), (exit, -dir, [exit, corner])]
                 {
@@ -168,6 +187,41 @@ fn a_small_cell_far_out_keeps_triangles_a_rounding_outside_it() {
         }
         for at in [lo - 1e-7, hi + 1e-7] {
             assert_eq!(split_triangle(tri(at), &cell, axis, split), [None, None]);
+        }
+    }
+}
+
+/// A mesh whose parts are wound different ways (a big box wound outwards,
+/// a small one inwards, as merged files can be): a line meeting one part
+/// only, first at a clear crossing, is entered there and left again,
+/// whatever the volume's sign says of the whole.
+#[test]
+fn parts_wound_different_ways_are_each_entered_first() {
+    let _watchdog = crate::watchdog::start();
+    let big = box_mesh(DVec3::ZERO, DVec3::splat(4.0));
+    let small = box_mesh(DVec3::new(10.0, 0.0, 0.0), DVec3::ONE);
+    let mut pos = big.positions.clone();
+    pos.extend(&small.positions);
+    let mut tris = big.triangles.clone();
+    tris.extend(
+        small
+            .triangles
+            .iter()
+            .map(|&[a, b, c]| [a + 8, c + 8, b + 8]),
+    );
+    for (name, d) in each_index(&pos, &tris) {
+        let mesh = Mesh::new(Arc::new(d), false, 0);
+        assert!(mesh.is_solid(), "{name}");
+        let dir = DVec3::new(0.2, 0.3, 1.0);
+        for centre in [DVec3::splat(2.0), DVec3::new(10.5, 0.5, 0.5)] {
+            let ray = Ray::new(centre - 4.0 * dir, dir);
+            let mut xs = Vec::new();
+            mesh.crossings(&ray, &mut xs);
+            assert_eq!(xs.len(), 2, "{name}: {xs:?}");
+            assert!(
+                xs[0].normal.dot(dir) < 0.0 && xs[1].normal.dot(dir) > 0.0,
+                "{name}: {centre} {xs:?}"
+            );
         }
     }
 }
