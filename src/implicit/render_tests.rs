@@ -604,3 +604,88 @@ fn cylinder_cut_by_an_off_centre_box_is_the_capped_primitive() {
     agree(&solid, &capped, &rays, 1e-9);
     testing::check_alternation(&solid, &rays);
 }
+
+/// A singular point's hits lie within their error bound too: a line
+/// through the cone x² + y² − z²'s apex meets it in a double root there,
+/// which the solver finds only to about the square root of the rounding
+/// (10⁻⁸ of the polynomial's scale), and where the gradient vanishes.
+/// Lines through the apex from 0.15 to 150 away, in boxes of those sizes
+/// and unbounded: the box ±p_error about each hit near the apex holds the
+/// apex, the exact crossing. Unbounded, the polynomial is expanded about
+/// the line's origin, so its rounding grows with the origin's distance:
+/// a bound sized by the point alone (|p| ≈ 0 here) was 18 times too small
+/// from 15 away and 1800 times from 150.
+#[test]
+fn hits_at_a_cones_apex_hold_the_apex_within_their_error_bound() {
+    let _watchdog = crate::watchdog::start();
+    for half in [0.5, 5.0, 50.0, 500.0] {
+        for bounded in [true, false] {
+            let b = bounded.then(|| Aabb::new(DVec3::splat(-half), DVec3::splat(half)));
+            let cone = ImplicitSurface::new(compile("x^2 + y^2 - z^2"), b, 0);
+            let mut near = 0;
+            for i in 0..100 {
+                let a = 0.1 + i as f64 * 0.731;
+                let dir = DVec3::new(a.cos(), a.sin(), 0.3 + 0.004 * i as f64).normalize();
+                let r = Ray::new(-0.3 * half * dir, dir);
+                let mut xs = Vec::new();
+                cone.crossings(&r, &mut xs);
+                xs.extend(cone.intersect(&r, 0.0, f64::INFINITY));
+                for h in xs {
+                    // Roots elsewhere on the cone (the line meets it only
+                    // at the apex, but a box's faces are crossings too).
+                    if h.point.length() > 1e-3 * half {
+                        continue;
+                    }
+                    near += 1;
+                    assert!(
+                        h.point.abs().cmple(h.p_error).all(),
+                        "half {half}, bounded {bounded}, line {i}: {} off the apex, p_error {}",
+                        h.point,
+                        h.p_error
+                    );
+                }
+            }
+            assert!(near >= 50, "half {half}, bounded {bounded}: {near}");
+        }
+    }
+}
+
+/// Where the gradient vanishes the shell noise/|∇f| is unbounded and the
+/// bound is capped: a point's error bound stays a small part of the
+/// surface's scale (here at most 10⁻⁵ of the box's diagonal, or of the
+/// ray's reach unbounded), or a secondary ray would start a visible
+/// distance off the surface. The cone's apex met exactly along its axis
+/// (the gradient there is 0): the bound holds the apex and is capped.
+#[test]
+fn the_bound_at_a_vanished_gradient_is_capped_at_a_small_part_of_the_scale() {
+    let _watchdog = crate::watchdog::start();
+    for half in [0.5, 5.0, 50.0] {
+        for bounded in [true, false] {
+            let b = bounded.then(|| Aabb::new(DVec3::splat(-half), DVec3::splat(half)));
+            let cone = ImplicitSurface::new(compile("x^2 + y^2 - z^2"), b, 0);
+            let from = 0.8 * half;
+            // A direction of length 1, and one of 2⁻¹⁰ (a moved surface's
+            // rays are not unit): t is then 1024 times the distance. (The
+            // axis touches the apex, a double root without a change of
+            // sign: exact powers of 2 keep its value there exactly 0.)
+            for len in [1.0, 2f64.powi(-10)] {
+                let r = Ray::new(DVec3::new(0.0, 0.0, from), -len * DVec3::Z);
+                let h = cone
+                    .intersect(&r, 0.0, f64::INFINITY)
+                    .unwrap_or_else(|| panic!("half {half}, bounded {bounded}, |dir| {len}"));
+                assert_eq!(cone.equation().gradient(h.point), DVec3::ZERO, "{h:?}");
+                let scale = if bounded {
+                    (2.0 * half) * 3f64.sqrt()
+                } else {
+                    1.0 + from
+                };
+                assert!(
+                    h.point.abs().cmple(h.p_error).all() && h.p_error.max_element() <= 1e-5 * scale,
+                    "half {half}, bounded {bounded}, |dir| {len}: {} with p_error {}",
+                    h.point,
+                    h.p_error
+                );
+            }
+        }
+    }
+}

@@ -178,7 +178,7 @@ impl ImplicitSurface {
             uv: DVec2::ZERO,
             local: p,
             point: p,
-            p_error: self.root_error(ray, t, p, g.length()),
+            p_error: self.root_error(ray, t, g.length()),
             geo_normal: normal,
             material: self.material,
             path: 0,
@@ -196,13 +196,21 @@ impl ImplicitSurface {
     /// anywhere in a shell of thickness noise/|∇f| around the surface, and
     /// so may a secondary ray's. Where the gradient nearly vanishes (the
     /// heart's seam) that shell is thick; it is capped at 1e-6 of the
-    /// box's diagonal (of 1 + |p| unbounded). `slope` is |∇f| at `p`.
-    fn root_error(&self, ray: &Ray, t: f64, p: DVec3, slope: f64) -> DVec3 {
+    /// box's diagonal. Unbounded, the polynomial is expanded about the
+    /// ray's origin, so the magnitude, the noise and the cap are those of
+    /// 1 + the reach from the origin to the point (not of the point alone:
+    /// a ray from afar through a cone's apex, |p| ≈ 0, has a root as far
+    /// off as its own scale's rounding allows). `slope` is |∇f| at the
+    /// point.
+    fn root_error(&self, ray: &Ray, t: f64, slope: f64) -> DVec3 {
         let (along, cap, noise) = if self.bounds.is_finite() {
             let diag = self.bounds.extent().length();
             (4e-13 * diag, 1e-6 * diag, self.box_noise)
         } else {
-            let size = 1.0 + p.abs().max_element();
+            // Unbounded, the polynomial along the ray is expanded about
+            // the ray's origin: its rounding is that of the terms over the
+            // whole reach from the origin to the point, not only near p.
+            let size = 1.0 + (ray.origin.abs() + (t * ray.dir).abs()).max_element();
             (
                 4e-13 * (1.0 + t.abs()) * ray.dir.length(),
                 1e-6 * size,

@@ -106,6 +106,9 @@ pub struct MeshData {
     /// Worked out when first asked (CSG asks; a render alone never does):
     /// its edge sort is a noticeable part of loading a big mesh.
     closed: std::sync::OnceLock<bool>,
+    /// A closed mesh's facing where a line enters it, worked out with
+    /// `closed`: see [`MeshData::entering_facing`].
+    entering: std::sync::OnceLock<f64>,
 }
 
 impl MeshData {
@@ -208,6 +211,7 @@ impl MeshData {
             pre,
             index,
             closed: std::sync::OnceLock::new(),
+            entering: std::sync::OnceLock::new(),
         }
     }
 
@@ -256,6 +260,15 @@ impl MeshData {
         *self
             .closed
             .get_or_init(|| is_closed(&self.positions, &self.triangles))
+    }
+
+    /// The sign of `normal · dir` of a closed mesh's triangles where a line
+    /// enters it: −1 wound outwards, +1 wound inwards, by the sign of the
+    /// volume the triangles enclose; 0 where that is 0 (nothing inside).
+    fn entering_facing(&self) -> f64 {
+        *self
+            .entering
+            .get_or_init(|| entering_facing(&self.positions, &self.triangles))
     }
 
     /// The kd-tree's figures, when a kd-tree indexes the triangles.
@@ -611,6 +624,30 @@ fn is_closed(positions: &[DVec3], triangles: &[[u32; 3]]) -> bool {
     true
 }
 
+/// See [`MeshData::entering_facing`]. Six times the signed volume, summed
+/// about a corner of the mesh rather than the origin (far from the origin
+/// the terms would cancel down to rounding); any point gives the same sum
+/// for a closed surface.
+fn entering_facing(positions: &[DVec3], triangles: &[[u32; 3]]) -> f64 {
+    let Some(&o) = positions.first() else {
+        return 0.0;
+    };
+    let volume: f64 = triangles
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|k| positions[k as usize] - o);
+            a.dot(b.cross(c))
+        })
+        .sum();
+    if volume > 0.0 {
+        -1.0
+    } else if volume < 0.0 {
+        1.0
+    } else {
+        0.0
+    }
+}
+
 /// For each vertex, the lowest index of a vertex at exactly the same
 /// position (−0 and +0 are one coordinate). Exact equality, never a
 /// tolerance: two vertices a rounding apart are a crack, and the
@@ -636,8 +673,13 @@ fn welded_indices(positions: &[DVec3]) -> Vec<u32> {
 /// A closed mesh's crossings for CSG, which must alternate entering and
 /// leaving. Each triangle's winding tells the way (its geometric normal;
 /// a smooth normal can disagree near a silhouette), and a mesh wound
-/// inwards is recognised by its first clear crossing (a closed surface is
-/// entered first). Triangles met at one point (the two sharing an edge,
+/// inwards is recognised by its first crossing when that is clear (a
+/// closed surface is entered first; this also holds a mesh whose parts
+/// are wound different ways), else by the sign of the volume it encloses:
+/// a line can enter through a saddle vertex, whose triangles face both
+/// ways, and then the first clear crossing is where it leaves (a mesh
+/// enclosing no volume falls back on that crossing).
+/// Triangles met at one point (the two sharing an edge,
 /// the fan around a vertex: the watertight test reports each of them) are
 /// taken as one group:
 /// - all facing one way: one crossing, skipped if it would not change the
@@ -681,12 +723,16 @@ fn solid_crossings(
         }
         i = j;
     }
-    // A clear group's facing that means entering: the first clear group
-    // along the line is entered.
-    let Some(first) = groups.iter().find(|g| g.2 != 0.0) else {
+    // A clear group's facing that means entering: the first group's,
+    // when it is clear (a closed surface is entered first); after a mixed
+    // group (a touch, or a saddle vertex crossed through) the winding's.
+    let Some(first) = groups.iter().position(|g| g.2 != 0.0) else {
         return;
     };
-    let enter_sign = first.2;
+    let enter_sign = match (first, d.entering_facing()) {
+        (0, _) | (_, 0.0) => groups[first].2,
+        (_, s) => s,
+    };
     let mut inside = false;
     for (g, &(a, b, sign)) in groups.iter().enumerate() {
         let now_inside = if sign != 0.0 {
@@ -832,3 +878,7 @@ impl Shape for Mesh {
 #[cfg(test)]
 #[path = "mesh_tests.rs"]
 mod tests;
+
+#[cfg(test)]
+#[path = "mesh_crossing_tests.rs"]
+mod crossing_tests;

@@ -34,7 +34,7 @@ fn brute(d: &MeshData, ray: &Ray) -> Option<f64> {
 
 /// The mesh indexed by the kd-tree, and by the BVH on each SIMD path this
 /// machine runs, with a name for messages.
-fn each_index(pos: &[DVec3], tris: &[[u32; 3]]) -> Vec<(String, MeshData)> {
+pub(super) fn each_index(pos: &[DVec3], tris: &[[u32; 3]]) -> Vec<(String, MeshData)> {
     use crate::accel::bvh::Simd;
     let mut out = vec![(
         "kd-tree".to_string(),
@@ -424,7 +424,7 @@ fn instances_share_one_mesh() {
 /// would flip a CSG ray's inside and outside).
 /// A closed box of twelve triangles, wound outwards: corner `min`,
 /// sides `size`.
-fn box_mesh(min: DVec3, size: DVec3) -> Arc<MeshData> {
+pub(super) fn box_mesh(min: DVec3, size: DVec3) -> Arc<MeshData> {
     let pos: Vec<DVec3> = (0..8)
         .map(|i| {
             min + DVec3::new(

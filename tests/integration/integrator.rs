@@ -456,3 +456,36 @@ fn progress_counts_every_row_once() {
     seen.sort();
     assert_eq!(seen, [1, 2, 3, 4]);
 }
+
+/// A sphere light emits outwards: "a sphere's inside never shows", so a
+/// floor inside a big emitting sphere is not lit by it. The same sphere in
+/// CSG (a union with a box far outside it) is a clipped light, sampled
+/// over its whole surface from both sides; a sample there counts only
+/// where the ray to it meets an emitting surface from its front, and from
+/// inside every sample is met from behind: the floor stays unlit as with
+/// the lone sphere (a light on the other side of the surface than the
+/// shaded point must not reach it).
+#[test]
+fn a_clipped_sphere_light_does_not_light_its_inside() {
+    let _watchdog = crate::watchdog::start();
+    let floor_inside = |lamp: &str| {
+        render_src(&format!(
+            "
+material lamp {{ emit white  intensity 10 }}
+camera {{ position <0.3, 0.5, 0>  look_at <0, 0, 0>  fov 2 }}
+render {{ width 3  height 3  gamma linear }}
+plane {{ normal <0, 1, 0>  material {{ colour rgb(1, 1, 1) }} }}
+{lamp}
+"
+        ))
+        .get(1, 1)
+    };
+    let sphere = "sphere { centre <0, 2, 0>  radius 5  material lamp  samples 4 }";
+    assert_eq!(floor_inside(sphere), [0.0, 0.0, 0.0]);
+    let clipped = format!("union {{ {sphere}  box {{ min <20, 0, 20>  max <21, 1, 21> }} }}");
+    assert_eq!(floor_inside(&clipped), [0.0, 0.0, 0.0]);
+    // Outside it, the same sphere in the same union lights the floor.
+    let above = "sphere { centre <0, 9, 0>  radius 5  material lamp  samples 4 }";
+    let lit = format!("union {{ {above}  box {{ min <20, 0, 20>  max <21, 1, 21> }} }}");
+    assert!(floor_inside(&lit)[0] > 0.5, "{:?}", floor_inside(&lit));
+}

@@ -202,6 +202,19 @@ fn bracketed_root_from_every_start() {
     assert!((a - fa * (b - a) / (fb - fa) + 0.5).abs() < 1e-12);
     let x = bracketed(&p, a, b, fa, fb, 1e-15);
     assert!((x - 0.25f64.cbrt()).abs() < 1e-12, "[{a}, {b}]: {x}");
+    // Nor when a step lands on minus its start: on t³ − 5t (roots 0 and
+    // ±√5) Newton from 1 lands on −1 and from −1 on 1, a 2-cycle across
+    // the root 0. The bracket [−3/2, b] is chosen so that the secant guess
+    // is 1 (b a root of b³ − 3.35b − 1.65, from the secant's formula with
+    // p(−3/2) = 33/8); its only root is 0.
+    let p = [0.0, -5.0, 0.0, 1.0];
+    let (a, b) = (-1.5, 2.039379695822763);
+    let (fa, fb) = (horner(&p, a), horner(&p, b));
+    assert!(fa > 0.0 && fb < 0.0 && b < 5f64.sqrt(), "{fa} {fb}");
+    let guess = a - fa * (b - a) / (fb - fa);
+    assert!((guess - 1.0).abs() < 1e-12, "{guess}");
+    let x = bracketed(&p, a, b, fa, fb, 1e-15);
+    assert!(x.abs() < 1e-12, "[{a}, {b}]: {x}");
 }
 
 #[test]
