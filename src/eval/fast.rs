@@ -263,15 +263,25 @@ mod tests {
     #[allow(clippy::type_complexity)]
     fn both(text: &str, scope: &Rc<Scope>) -> ((Option<Value>, usize, u64), (Option<Value>, u64)) {
         let (program, e) = parsed(text);
+        both_of(&program, &e, scope)
+    }
+
+    /// [`both`] for an expression already made.
+    #[allow(clippy::type_complexity)]
+    fn both_of(
+        program: &crate::lang::Program,
+        e: &Expr,
+        scope: &Rc<Scope>,
+    ) -> ((Option<Value>, usize, u64), (Option<Value>, u64)) {
         let options = Options::default();
-        let ex = expander(&program, &options);
+        let ex = expander(program, &options);
         let at = ex.at(scope);
         let mut errors = Vec::new();
-        let walk = expr::eval(&at, &e, &mut errors);
+        let walk = expr::eval(&at, e, &mut errors);
         let walk_steps = ex.steps.get() - 1;
-        let ex = expander(&program, &options);
+        let ex = expander(program, &options);
         let at = ex.at(scope);
-        let fast = value(&at, &e);
+        let fast = value(&at, e);
         ((walk, errors.len(), walk_steps), (fast, ex.steps.get() - 1))
     }
 
@@ -292,6 +302,9 @@ mod tests {
             "random(i, j) + atan2(-1, -h) + floor(-h) + round(h) + abs(-j)",
             "log(i) + exp(h) + cos(j) + tan(h) + rad(90) + deg(pi) + max(i, 1) + ceil(h)",
             "-7 % 3 + 7 % -3",
+            // Black and a zero component are colours, not mistakes.
+            "rgb(0, 0, 0)",
+            "rgb(h - h, i % 1, j)",
         ] {
             let ((walk, errors, walk_steps), (fast, fast_steps)) = both(text, &s);
             let fast = fast.unwrap_or_else(|| panic!("{text}: no short cut"));
@@ -313,6 +326,10 @@ mod tests {
             "log(0)",        // likewise
             "rgb(-h, 0, 0)", // a negative component
             "rgb(1e308 * 10, 0, 0)",
+            "rgb(-h, 1, 1)", // a negative component among others
+            "1e400",         // a literal too large for a float
+            "min(1e400, i)", // likewise, in a call that would hide it
+            "-1e400 + i",
             "u + 1",      // unbound
             "v * 2",      // a vector
             "c",          // a colour
@@ -327,6 +344,69 @@ mod tests {
             let ((_, _, walk_steps), (fast, fast_steps)) = both(text, &s);
             assert!(fast.is_none(), "{text}: {fast:?}");
             assert_eq!(fast_steps, 0, "{text}: steps {fast_steps} of {walk_steps}");
+        }
+    }
+
+    /// `e` as the evaluator leaves a part of an expression it has worked
+    /// out already: `u` a worked-out number (`ExprKind::Value`), `w` a
+    /// bound name carrying its number (`ExprKind::Bound`), `s` a bound
+    /// name carrying a vector, `f` one whose definition failed. (None
+    /// of them is bound in [`scope`]: only the node says what it is.)
+    fn worked_out(e: &mut Expr) {
+        let number = |x: f64| Some(Value::Number(x));
+        let kind = match &mut e.kind {
+            ExprKind::Name(n) => match &**n {
+                "u" => ExprKind::Value(Value::Number(2.5)),
+                "w" => ExprKind::Bound(n.clone(), number(-4.0)),
+                "s" => ExprKind::Bound(
+                    n.clone(),
+                    Some(Value::Vector(smallvec::smallvec![1.0, 2.0])),
+                ),
+                "f" => ExprKind::Bound(n.clone(), None),
+                _ => return,
+            },
+            ExprKind::Binary { lhs, rhs, .. } => {
+                worked_out(lhs);
+                worked_out(rhs);
+                return;
+            }
+            ExprKind::Neg(x) => return worked_out(x),
+            ExprKind::Call { args, .. } => return args.iter_mut().for_each(worked_out),
+            ExprKind::Vector(parts) => return parts.iter_mut().for_each(worked_out),
+            _ => return,
+        };
+        e.kind = kind;
+    }
+
+    /// Numbers the evaluator has already worked out or filled in for a
+    /// bound name take the short cut, as the walk gives them; a bound
+    /// vector or a failed definition is left to the walk.
+    #[test]
+    fn worked_out_numbers_and_bound_names_take_the_short_cut() {
+        let s = scope();
+        for text in [
+            "u",
+            "w * u",
+            "-w + i",
+            "<u, w, -u>",
+            "rgb(u / 10, -w / 10, 0.5)",
+            "sqrt(u) + w % 3 + min(u, w)",
+        ] {
+            let (program, mut e) = parsed(text);
+            worked_out(&mut e);
+            let ((walk, errors, walk_steps), (fast, fast_steps)) = both_of(&program, &e, &s);
+            let fast = fast.unwrap_or_else(|| panic!("{text}: no short cut"));
+            let walk = walk.unwrap_or_else(|| panic!("{text}: no value"));
+            assert!(same(&fast, &walk), "{text}: {fast:?} against {walk:?}");
+            assert_eq!(errors, 0, "{text}");
+            assert_eq!(fast_steps, walk_steps, "{text}");
+        }
+        for text in ["s", "s + 1", "<u, s>", "f", "f * 2", "sqrt(f)"] {
+            let (program, mut e) = parsed(text);
+            worked_out(&mut e);
+            let (_, (fast, fast_steps)) = both_of(&program, &e, &s);
+            assert!(fast.is_none(), "{text}: {fast:?}");
+            assert_eq!(fast_steps, 0, "{text}");
         }
     }
 
@@ -450,6 +530,10 @@ mod tests {
             1e300,
             -1e300,
             123456789.0,
+            // 2^63, which saturates an i64 to 2^63 − 1 and converts back
+            // to itself: only |x| below 2^53 may take the integers.
+            2.0 * (1u64 << 62) as f64,
+            -2.0 * (1u64 << 62) as f64,
         ];
         for &x in &xs {
             for &y in &xs {

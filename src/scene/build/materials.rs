@@ -483,6 +483,34 @@ mod tests {
         assert_eq!(lines.len(), 2, "{:?}", c.errors);
     }
 
+    /// Likewise for a block of only parameters and values, whose words
+    /// would share its material (a parameter given twice, the material
+    /// still made from the first): each copy reports it and wears the
+    /// material its words make.
+    #[test]
+    fn every_copy_of_a_shareable_block_with_a_mistake_reports_it() {
+        let block = "material { colour rgb(1, 0, 0)  diffuse 0.5  diffuse 0.5 }";
+        let c = checked(&format!(
+            "sphere {{ centre <0, 0, 0>  radius 1  {block} }}
+             sphere {{ centre <3, 0, 0>  radius 1  {block} }}"
+        ));
+        let twice: std::collections::HashSet<_> = c
+            .errors
+            .iter()
+            .filter(|e| e.message.contains("given twice"))
+            .map(|e| e.span.start)
+            .collect();
+        assert_eq!(twice.len(), 2, "{:?}", c.errors);
+        for x in [0.0, 3.0] {
+            let m = material_at(&c.scene, x);
+            assert!(
+                matches!(m.texture, Texture::Solid(c) if c == Colour::new(1.0, 0.0, 0.0)),
+                "{x}"
+            );
+            assert_eq!(m.diffuse, 0.5, "{x}");
+        }
+    }
+
     #[test]
     fn a_blocks_words_tell_names_numbers_colours_and_vectors_apart() {
         let key = |text: &str| {
@@ -526,5 +554,76 @@ mod tests {
         ] {
             assert_eq!(key(text), None, "{text}");
         }
+    }
+
+    /// The words of the block of `material m { text }` after the
+    /// evaluator has worked it out (as the builder gets it), with `k` =
+    /// 0.25 bound.
+    fn evaluated_key(text: &str) -> Option<smallvec::SmallVec<[u64; 16]>> {
+        let program = crate::lang::load_text(
+            std::path::Path::new("t.rt"),
+            format!("let k = 0.25\nmaterial m {{ {text} }}"),
+        )
+        .unwrap_or_else(|_| panic!("parses"));
+        let options = crate::eval::Options::default();
+        let e = crate::eval::evaluate(&program, crate::scene::Transfer::Srgb, &options);
+        assert!(e.errors.is_empty(), "{text}: {:?}", e.errors);
+        let Some(Item::Block(b)) = e.items.iter().find(|i| matches!(i, Item::Block(_))) else {
+            panic!("{text}: {:?}", e.items)
+        };
+        block_key(b)
+    }
+
+    /// Numbers, colours and vectors the evaluator has worked out are
+    /// words too (a loop's `colour rgb(i % 3 / 2, …)`), each told apart
+    /// from the others and from a literal of the same value.
+    #[test]
+    fn worked_out_numbers_colours_and_vectors_are_words() {
+        let words = [
+            "diffuse 0.5",
+            "diffuse k * 2",
+            "diffuse k * 3",
+            "colour rgb(k, k, k)",
+            "colour rgb(k, k, 2 * k)",
+            "colour <k, k, k>",
+            "colour <k, k>",
+            "colour <k, k, 2 * k>",
+        ];
+        let keys: Vec<_> = words
+            .iter()
+            .map(|w| evaluated_key(w).unwrap_or_else(|| panic!("{w}: no words")))
+            .collect();
+        for (i, a) in keys.iter().enumerate() {
+            for (j, b) in keys.iter().enumerate() {
+                assert_eq!(a == b, i == j, "{} against {}", words[i], words[j]);
+            }
+        }
+        assert_eq!(
+            evaluated_key("diffuse k * 2  colour rgb(k, k, k)"),
+            evaluated_key("diffuse 2 * k  colour rgb(0.25, k, k)"),
+            "the same values worked out are the same words"
+        );
+    }
+
+    /// A vector's length is among its words: a short vector and the
+    /// words after it cannot read as one longer vector whose extra
+    /// components have the bits of those words.
+    #[test]
+    fn a_vectors_length_is_among_its_words() {
+        let short = "colour <1, 2>  reflect 0.5";
+        let Some(words) = evaluated_key(short) else {
+            panic!("{short}: no words")
+        };
+        // The words of `reflect 0.5`, after the vector's own.
+        let tail: Vec<String> = words[words.len() - 4..]
+            .iter()
+            .map(|w| format!("{:?}", f64::from_bits(*w)))
+            .collect();
+        let long = format!("colour <1, 2, {}>", tail.join(", "));
+        let Some(other) = evaluated_key(&long) else {
+            panic!("{long}: no words")
+        };
+        assert_eq!(words.len(), other.len(), "{long}");
+        assert_ne!(words, other, "{short} against {long}");
     }
 }
