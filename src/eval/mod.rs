@@ -848,3 +848,6 @@ enum Placed {
     UsedBlock,
     Done,
 }
+
+#[cfg(test)]
+mod tests;
