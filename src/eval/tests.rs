@@ -204,3 +204,112 @@ fn unknown_functions_suggest_the_users_own() {
         "{errors:?}"
     );
 }
+
+/// The trail under a mistake: each loop iteration and call it is inside,
+/// innermost first, each with where it starts.
+#[test]
+fn mistakes_in_nested_loops_and_calls_name_each() {
+    let _watchdog = crate::watchdog::start();
+    let help = |src: &str| {
+        let e = evaluate(&program(src), Transfer::Srgb, &Options::default()).errors;
+        assert_eq!(e.len(), 1, "{e:?}");
+        assert_eq!(e[0].message, "division by zero");
+        let help = e[0].help.clone().unwrap_or_default();
+        let lines: Vec<String> = help.lines().map(str::to_string).collect();
+        lines
+    };
+    let lines = help("for i in 0..3 {\n  for j in 1..3 {\n    let q = 1 / (i - 2 * j)\n  }\n}");
+    assert!(
+        lines.ends_with(&[
+            "in iteration j = 1 of the loop at scene.rt:2:3".to_string(),
+            "in iteration i = 2 of the loop at scene.rt:1:1".to_string(),
+        ]),
+        "{lines:?}"
+    );
+    let lines = help("fn f(h) = 1 / (h - 1)\nfor i in 0..3 {\n  let q = f(i)\n}");
+    assert!(
+        lines.ends_with(&[
+            "in `f` called from scene.rt:3:11 with h = 1".to_string(),
+            "in iteration i = 1 of the loop at scene.rt:2:1".to_string(),
+        ]),
+        "{lines:?}"
+    );
+}
+
+/// After a loop or a call, a mistake is outside it: no trail names them.
+#[test]
+fn after_a_loop_or_call_the_trail_is_gone() {
+    let _watchdog = crate::watchdog::start();
+    for src in [
+        "for i in 0..2 { sphere { } }\nlet q = 1 / 0",
+        "fn f(h) = h\nlet a = f(1)\nlet q = 1 / 0",
+        "for i in 0..2 {\n  for j in 0..2 { sphere { } }\n  let q = 1 / (1 - i)\n}",
+    ] {
+        let e = evaluate(&program(src), Transfer::Srgb, &Options::default()).errors;
+        assert_eq!(e.len(), 1, "{e:?}");
+        assert_eq!(e[0].message, "division by zero");
+        let help = e[0].help.clone().unwrap_or_default();
+        assert!(
+            !help.contains("called from") && !help.contains("iteration j"),
+            "{src}: {help}"
+        );
+        assert_eq!(
+            help.contains("iteration i = 1"),
+            src.contains("1 - i"),
+            "{src}: {help}"
+        );
+    }
+}
+
+/// The string right after `implicit` carries the numeric constants in
+/// scope (for its equation); other strings, a string first in its
+/// sequence included, carry none.
+#[test]
+fn an_implicit_equation_carries_the_constants_in_scope() {
+    let _watchdog = crate::watchdog::start();
+    let strs = |src: &str| -> Vec<Option<Vec<(String, f64)>>> {
+        let e = evaluate(&program(src), Transfer::Srgb, &Options::default());
+        assert!(e.errors.is_empty(), "{:?}", e.errors);
+        e.items
+            .iter()
+            .filter_map(|i| match i {
+                Item::Str { constants, .. } => Some(constants.as_deref().cloned()),
+                _ => None,
+            })
+            .collect()
+    };
+    let found = strs("let r = 2\nimplicit \"x^2 - r\" { }\nmesh \"a.ply\" { }\n\"b\"");
+    assert_eq!(found.len(), 3, "{found:?}");
+    let constants = found[0].as_ref().expect("constants");
+    assert!(constants.contains(&("r".to_string(), 2.0)), "{constants:?}");
+    assert_eq!(found[1..], [None, None]);
+    assert_eq!(strs("\"a\""), [None]);
+}
+
+/// A call of a function of items among items is its items, once, traced
+/// to the call, its parameter bound to the argument.
+#[test]
+fn a_call_of_an_items_function_is_its_items() {
+    let _watchdog = crate::watchdog::start();
+    let e = evaluate(
+        &program("fn post(h) { sphere { radius h } }\npost(2)"),
+        Transfer::Srgb,
+        &Options::default(),
+    );
+    assert!(e.errors.is_empty(), "{:?}", e.errors);
+    let [Item::Traced { items, .. }] = e.items.as_slice() else {
+        panic!("{:?}", e.items);
+    };
+    assert_eq!(items.len(), 2, "{items:?}");
+    assert_eq!(items[0].as_name().map(|n| n.node), Some("sphere"));
+    let Item::Block(b) = &items[1] else {
+        panic!("{items:?}");
+    };
+    let Item::Value(v) = &b.items[1] else {
+        panic!("{b:?}");
+    };
+    assert_eq!(
+        v.kind,
+        ExprKind::Bound("h".into(), Some(Value::Number(2.0)))
+    );
+}
