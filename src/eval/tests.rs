@@ -313,3 +313,30 @@ fn a_call_of_an_items_function_is_its_items() {
         ExprKind::Bound("h".into(), Some(Value::Number(2.0)))
     );
 }
+
+/// A value that failed (reported) is dropped where it stands as a
+/// statement, with the block of a failed call, so that the builder does
+/// not report it again; after a keyword it stays, as a failed value,
+/// for the keyword.
+#[test]
+fn failed_values_are_dropped_as_statements_and_kept_after_keywords() {
+    let _watchdog = crate::watchdog::start();
+    for src in [
+        "1 / 0\nsphere { }",
+        "fn f(h) = 1 / h\nf(0)\nsphere { }",
+        "fn f(h) = 1 / h\nf(0) { translate <1, 0, 0> }\nsphere { }",
+    ] {
+        let e = evaluate(&program(src), Transfer::Srgb, &Options::default());
+        assert_eq!(e.errors.len(), 1, "{src}: {:?}", e.errors);
+        assert_eq!(e.errors[0].message, "division by zero");
+        assert_eq!(e.items.len(), 2, "{src}: {:?}", e.items);
+        assert_eq!(e.items[0].as_name().map(|n| n.node), Some("sphere"));
+        let Item::Block(b) = &e.items[1] else {
+            panic!("{src}: {:?}", e.items);
+        };
+        assert!(b.items.is_empty(), "{src}: {b:?}");
+    }
+    let (v, errors) = radius("sphere { radius 1 / 0 }");
+    assert_eq!(errors.len(), 1, "{errors:?}");
+    assert_eq!(v, ExprKind::Bound("".into(), None));
+}
