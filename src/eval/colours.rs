@@ -163,3 +163,20 @@ pub const COLOURS: &[(&str, u32)] = &[
     ("yellow", 0xffff00),
     ("yellowgreen", 0x9acd32),
 ];
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Each byte of `#rrggbb` in its place: CSS's coral is #ff7f50,
+    /// rebeccapurple #663399; a name not in the table is none.
+    #[test]
+    fn names_give_their_three_bytes() {
+        assert_eq!(named_colour("coral"), Some([0xff, 0x7f, 0x50]));
+        assert_eq!(named_colour("rebeccapurple"), Some([0x66, 0x33, 0x99]));
+        assert_eq!(named_colour("aliceblue"), Some([0xf0, 0xf8, 0xff]));
+        assert_eq!(named_colour("yellowgreen"), Some([0x9a, 0xcd, 0x32]));
+        assert_eq!(named_colour("black"), Some([0, 0, 0]));
+        assert_eq!(named_colour("notacolour"), None);
+    }
+}

@@ -251,3 +251,7 @@ pub fn define_value(text: &str) -> Result<Value, String> {
             None => bad(),
         })
 }
+
+#[cfg(test)]
+#[path = "entry_tests.rs"]
+mod tests;

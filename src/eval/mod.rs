@@ -885,3 +885,6 @@ enum Placed {
     UsedBlock,
     Done,
 }
+
+#[cfg(test)]
+mod tests;

@@ -133,3 +133,103 @@ pub fn trail(lines: &[String]) -> String {
     out.extend_from_slice(&lines[n - 2..]);
     out.join("\n")
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::lang::ast::FileId;
+
+    /// A program whose text gives the locations below: line 3 starts at
+    /// byte 11, line 5's fifth column is byte 34.
+    const TEXT: &str = "let a = 1\n\nfor i in 0..9 { }\n\n    pillar(1.7)\n";
+
+    fn sources() -> (crate::lang::source::Sources, FileId) {
+        let p = crate::lang::load_text(std::path::Path::new("scene.rt"), TEXT.into())
+            .unwrap_or_else(|_| panic!("{TEXT} does not parse"));
+        (p.sources, p.root)
+    }
+
+    fn call(root: FileId, args: Vec<(String, Value)>) -> Arc<Trace> {
+        Arc::new(Trace {
+            frame: Frame::Call {
+                name: "pillar".into(),
+                at: Span::new(root, 34, 45),
+                args,
+            },
+            parent: None,
+        })
+    }
+
+    /// An iteration inside a call, innermost first, in the words of the
+    /// module's doc: the loop's variable and value and where the loop
+    /// starts, then the call with its arguments. As an iteration, as the
+    /// shared frame made of it, and through `Trace::lines`, the same.
+    #[test]
+    fn an_iteration_in_a_call_says_which_in_words() {
+        let (sources, root) = sources();
+        let outer = call(
+            root,
+            vec![
+                ("h".into(), Value::Number(1.7)),
+                ("r".into(), Value::Number(0.3)),
+            ],
+        );
+        let site = Arc::new(LoopSite {
+            var: Arc::from("i"),
+            at: Span::new(root, 11, 28),
+            parent: Some(outer.clone()),
+        });
+        let it = TraceRef::Iteration(site, Value::Number(7.0));
+        let want = [
+            "in iteration i = 7 of the loop at scene.rt:3:1",
+            "in `pillar` called from scene.rt:5:5 with h = 1.7, r = 0.3",
+        ];
+        assert_eq!(it.lines(&sources), want);
+        let shared = it.shared();
+        assert_eq!(shared.lines(&sources), want);
+        assert_eq!(TraceRef::Shared(shared.clone()).lines(&sources), want);
+        assert_eq!(
+            shared.frame,
+            Frame::Loop {
+                var: Arc::from("i"),
+                value: Value::Number(7.0),
+                at: Span::new(root, 11, 28),
+            }
+        );
+        // Both kinds know the trace around them: the call, which has none.
+        assert_eq!(it.parent(), Some(outer.clone()));
+        assert_eq!(TraceRef::Shared(shared).parent(), Some(outer.clone()));
+        assert_eq!(TraceRef::Shared(outer).parent(), None);
+    }
+
+    /// A call without arguments has no "with".
+    #[test]
+    fn a_call_without_arguments_says_no_with() {
+        let (sources, root) = sources();
+        assert_eq!(
+            call(root, Vec::new()).lines(&sources),
+            ["in `pillar` called from scene.rt:5:5"]
+        );
+    }
+
+    /// Up to six lines are shown whole; past that the innermost three and
+    /// the outermost two, with the count of those left out between.
+    #[test]
+    fn a_long_trail_keeps_its_ends() {
+        let lines = |n: usize| (1..=n).map(|k| format!("line {k}")).collect::<Vec<_>>();
+        assert_eq!(trail(&[]), "");
+        assert_eq!(trail(&lines(1)), "line 1");
+        assert_eq!(
+            trail(&lines(6)),
+            "line 1\nline 2\nline 3\nline 4\nline 5\nline 6"
+        );
+        assert_eq!(
+            trail(&lines(7)),
+            "line 1\nline 2\nline 3\n… 2 more …\nline 6\nline 7"
+        );
+        assert_eq!(
+            trail(&lines(12)),
+            "line 1\nline 2\nline 3\n… 7 more …\nline 11\nline 12"
+        );
+    }
+}

@@ -223,6 +223,81 @@ mod tests {
         Aabb::new(lo, hi)
     }
 
+    /// `is_finite`: every one of the six bounds finite; a box open on one
+    /// side only (an infinite max, or a −∞ min) is not.
+    #[test]
+    fn a_box_is_finite_only_with_all_six_bounds_finite() {
+        let unit = Aabb::new(DVec3::ZERO, DVec3::ONE);
+        assert!(unit.is_finite());
+        assert!(!Aabb::INFINITE.is_finite());
+        assert!(!Aabb::EMPTY.is_finite());
+        for axis in 0..3 {
+            let mut open_above = unit;
+            open_above.max[axis] = f64::INFINITY;
+            assert!(!open_above.is_finite(), "max of axis {axis}");
+            let mut open_below = unit;
+            open_below.min[axis] = f64::NEG_INFINITY;
+            assert!(!open_below.is_finite(), "min of axis {axis}");
+        }
+    }
+
+    /// `centre`, `extent`, `union`, `intersection` and `grow` on a box with
+    /// a different size in each axis, against their values worked out by
+    /// hand (all exact in binary).
+    #[test]
+    fn centre_extent_and_hulls_by_hand() {
+        let a = Aabb::new(DVec3::new(1.0, -2.0, 3.0), DVec3::new(4.0, 6.0, 3.5));
+        assert_eq!(a.centre(), DVec3::new(2.5, 2.0, 3.25));
+        assert_eq!(a.extent(), DVec3::new(3.0, 8.0, 0.5));
+        let b = Aabb::new(DVec3::new(2.0, -3.0, 0.0), DVec3::new(5.0, 1.0, 3.25));
+        let u = a.union(&b);
+        assert_eq!(u.min, DVec3::new(1.0, -3.0, 0.0));
+        assert_eq!(u.max, DVec3::new(5.0, 6.0, 3.5));
+        let i = a.intersection(&b);
+        assert_eq!(i.min, DVec3::new(2.0, -2.0, 3.0));
+        assert_eq!(i.max, DVec3::new(4.0, 1.0, 3.25));
+        let g = a.grow(DVec3::new(0.0, 7.0, 3.25));
+        assert_eq!(g.min, DVec3::new(0.0, -2.0, 3.0));
+        assert_eq!(g.max, DVec3::new(4.0, 7.0, 3.5));
+    }
+
+    /// `transformed` is the hull of the eight moved corners. The matrix
+    /// (x − y + 10, y − z + 20, z + x + 30) takes each of its extremes at a
+    /// different corner of the unit cube, so a corner left out (or one
+    /// taken twice) shows: x′ is least at (0, 1, ·) and most at (1, 0, ·),
+    /// y′ least at (·, 0, 1), z′ most at (1, ·, 1). Integer entries: exact.
+    #[test]
+    fn a_moved_box_is_the_hull_of_its_eight_moved_corners() {
+        let xf = Transform::from_rows([
+            1.0, -1.0, 0.0, 10.0, //
+            0.0, 1.0, -1.0, 20.0, //
+            1.0, 0.0, 1.0, 30.0,
+        ])
+        .unwrap();
+        let unit = Aabb::new(DVec3::ZERO, DVec3::ONE);
+        let moved = unit.transformed(&xf);
+        assert_eq!(moved.min, DVec3::new(9.0, 19.0, 30.0));
+        assert_eq!(moved.max, DVec3::new(11.0, 21.0, 32.0));
+        // The same box by its corners, one by one.
+        let mut hull = Aabb::EMPTY;
+        for x in [0.0, 1.0] {
+            for y in [0.0, 1.0] {
+                for z in [0.0, 1.0] {
+                    hull = hull.grow(DVec3::new(x - y + 10.0, y - z + 20.0, z + x + 30.0));
+                }
+            }
+        }
+        assert_eq!(moved, hull);
+        // An unbounded box stays unbounded (the corners would give NaN
+        // from ∞ − ∞), an empty one stays empty.
+        let mut half = unit;
+        half.max.x = f64::INFINITY;
+        assert_eq!(half.transformed(&xf), Aabb::INFINITE);
+        assert_eq!(Aabb::INFINITE.transformed(&xf), Aabb::INFINITE);
+        assert!(Aabb::EMPTY.transformed(&xf).is_empty());
+        assert_eq!(Aabb::EMPTY.transformed(&xf), Aabb::EMPTY);
+    }
+
     #[test]
     fn area_of_unit_cube() {
         assert_eq!(Aabb::new(DVec3::ZERO, DVec3::ONE).area(), 6.0);

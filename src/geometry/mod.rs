@@ -18,3 +18,26 @@ pub use transform::Transform;
 pub fn surface_epsilon(p: DVec3) -> f64 {
     1e-7 * (1.0 + p.abs().max_element())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// 1e-7 · (1 + the largest |coordinate|): 1e-7 · 5 at (0, −4, 1), and
+    /// 1e-7 at the origin.
+    #[test]
+    fn the_old_surface_epsilon_follows_its_formula() {
+        assert_eq!(surface_epsilon(DVec3::new(0.0, -4.0, 1.0)), 1e-7 * 5.0);
+        assert_eq!(surface_epsilon(DVec3::new(3.0, 0.5, -2.0)), 1e-7 * 4.0);
+        assert_eq!(surface_epsilon(DVec3::ZERO), 1e-7);
+    }
+
+    /// `origin + t·dir`, with a direction that is not unit length.
+    #[test]
+    fn a_ray_at_t() {
+        let r = Ray::new(DVec3::new(1.0, 2.0, 3.0), DVec3::new(0.5, -2.0, 4.0));
+        assert_eq!(r.at(0.0), DVec3::new(1.0, 2.0, 3.0));
+        assert_eq!(r.at(2.0), DVec3::new(2.0, -2.0, 11.0));
+        assert_eq!(r.at(-1.0), DVec3::new(0.5, 4.0, -1.0));
+    }
+}

@@ -219,6 +219,127 @@ mod tests {
         assert!(close(r.point(DVec3::Z), DVec3::X));
     }
 
+    /// `matrix [ … ]` rows: row r is (x′, y′ or z′) = a·x + b·y + c·z + d,
+    /// applied to a point and (without d) to a vector; the inverse undoes
+    /// both. Integer entries, so the forward results are exact.
+    #[test]
+    fn rows_are_the_matrix_as_written() {
+        let t = Transform::from_rows([
+            1.0, -1.0, 0.0, 10.0, //
+            0.0, 2.0, -1.0, 20.0, //
+            1.0, 0.0, 1.0, 30.0,
+        ])
+        .unwrap();
+        let p = DVec3::new(1.0, 2.0, 3.0);
+        assert_eq!(
+            t.point(p),
+            DVec3::new(1.0 - 2.0 + 10.0, 4.0 - 3.0 + 20.0, 3.0 + 1.0 + 30.0)
+        );
+        assert_eq!(t.vector(p), DVec3::new(1.0 - 2.0, 4.0 - 3.0, 3.0 + 1.0));
+        assert!(close(t.inverse_point(t.point(p)), p));
+        assert!(close(t.inverse_vector(t.vector(p)), p));
+        assert!(!t.is_identity());
+        // A singular one (the third row the sum of the first two) is not.
+        assert!(
+            Transform::from_rows([
+                1.0, 0.0, 0.0, 0.0, //
+                0.0, 1.0, 0.0, 0.0, //
+                1.0, 1.0, 0.0, 0.0,
+            ])
+            .is_none()
+        );
+    }
+
+    /// Refused below |det| = 1e-300, taken above it: a scale of 1e-101 per
+    /// axis (det 1e-303, though its inverse, 1e101, would be finite) is
+    /// refused, one of 1e-99 (det 1e-297) is kept; so is a reflection
+    /// (det −1), and a matrix holding ∞ or NaN is not.
+    #[test]
+    fn the_determinant_threshold() {
+        assert!(Transform::scale(DVec3::splat(1e-101)).is_none());
+        let tiny = Transform::scale(DVec3::splat(1e-99)).unwrap();
+        assert_eq!(tiny.point(DVec3::ONE), DVec3::splat(1e-99));
+        assert!(close(tiny.inverse_point(DVec3::splat(1e-99)), DVec3::ONE));
+        assert!(Transform::scale(DVec3::new(1.0, -1.0, 1.0)).is_some());
+        assert!(Transform::scale(DVec3::new(1.0, f64::INFINITY, 1.0)).is_none());
+        assert!(Transform::scale(DVec3::new(1.0, f64::NAN, 1.0)).is_none());
+    }
+
+    /// Each elementary transform and its stored inverse, against the
+    /// matrix written out.
+    #[test]
+    fn elementary_transforms_and_their_inverses() {
+        let p = DVec3::new(1.0, 2.0, 3.0);
+        let t = Transform::translate(DVec3::new(0.5, -4.0, 8.0));
+        assert_eq!(t.point(p), DVec3::new(1.5, -2.0, 11.0));
+        assert_eq!(t.inverse_point(p), DVec3::new(0.5, 6.0, -5.0));
+        assert_eq!(t.vector(p), p);
+        assert_eq!(t.inverse_vector(p), p);
+        let s = Transform::scale(DVec3::new(2.0, 4.0, 0.5)).unwrap();
+        assert_eq!(s.point(p), DVec3::new(2.0, 8.0, 1.5));
+        assert_eq!(s.inverse_point(p), DVec3::new(0.5, 0.5, 6.0));
+        for axis in 0..3 {
+            let m = Transform::mirror(axis);
+            let mut q = p;
+            q[axis] = -q[axis];
+            assert_eq!(m.point(p), q, "mirror {axis}");
+            assert_eq!(m.inverse_point(p), q, "mirror {axis}");
+        }
+        // shear xy 3: y′ = y + 3x; its inverse y = y′ − 3x.
+        let h = Transform::shear(0, 1, 3.0);
+        assert_eq!(h.point(p), DVec3::new(1.0, 5.0, 3.0));
+        assert_eq!(h.inverse_point(p), DVec3::new(1.0, -1.0, 3.0));
+        // rotate z 90: (x, y) → (−y, x); the inverse (its transpose) back.
+        let r = Transform::rotate(DVec3::new(0.0, 0.0, 2.0), 90.0).unwrap();
+        assert!(close(r.point(p), DVec3::new(-2.0, 1.0, 3.0)));
+        assert!(close(r.inverse_point(p), DVec3::new(2.0, -1.0, 3.0)));
+    }
+
+    /// The normal goes by the inverse transpose: under scale (2, 4, 0.5)
+    /// it is (x/2, y/4, 2z), exactly.
+    #[test]
+    fn normals_by_the_inverse_transpose() {
+        let s = Transform::scale(DVec3::new(2.0, 4.0, 0.5)).unwrap();
+        assert_eq!(
+            s.normal(DVec3::new(1.0, 1.0, 1.0)),
+            DVec3::new(0.5, 0.25, 2.0)
+        );
+        // Under shear xy 3 (y′ = y + 3x) the plane y = 0's normal (0, 1, 0)
+        // becomes (−3, 1, 0): the sheared plane is y′ = 3x′.
+        let h = Transform::shear(0, 1, 3.0);
+        assert_eq!(h.normal(DVec3::Y), DVec3::new(-3.0, 1.0, 0.0));
+    }
+
+    /// `then` composes both halves: a pair whose inverse is the identity
+    /// but whose matrix is not (or the other way round) is not the
+    /// identity, and is multiplied out like any other.
+    #[test]
+    fn then_takes_the_identity_shortcut_only_for_the_identity_both_ways() {
+        let t = Transform::translate(DVec3::new(1.0, 2.0, 4.0));
+        let forward_only = Transform {
+            matrix: t.matrix,
+            inverse: DMat4::IDENTITY,
+        };
+        let twice = forward_only.then(&forward_only);
+        assert_eq!(twice.matrix, t.matrix * t.matrix);
+        assert_eq!(twice.inverse, DMat4::IDENTITY);
+        assert_eq!(twice.point(DVec3::ZERO), DVec3::new(2.0, 4.0, 8.0));
+        let inverse_only = Transform {
+            matrix: DMat4::IDENTITY,
+            inverse: t.inverse,
+        };
+        let twice = inverse_only.then(&inverse_only);
+        assert_eq!(twice.matrix, DMat4::IDENTITY);
+        assert_eq!(
+            twice.inverse_point(DVec3::ZERO),
+            DVec3::new(-2.0, -4.0, -8.0)
+        );
+        assert!(Transform::IDENTITY.is_identity());
+        assert!(Transform::default().is_identity());
+        assert!(inverse_only.is_identity());
+        assert!(!forward_only.is_identity());
+    }
+
     #[test]
     fn singular_matrices_are_refused() {
         assert!(Transform::scale(DVec3::new(1.0, 0.0, 1.0)).is_none());
