@@ -108,18 +108,7 @@ pub fn evaluate_in_parts_bound(
     options: &Options,
     mut sink: impl FnMut(Vec<Item>, &[String]),
 ) -> (Vec<Error>, Vec<TopLevel>) {
-    let ex = Expander {
-        program,
-        transfer,
-        options,
-        steps: Cell::new(0),
-        objects: Cell::new(0),
-        depth: Cell::new(0),
-        stopped: Cell::new(false),
-        context: RefCell::new(None),
-        known: RefCell::new(Vec::new()),
-        used_defines: RefCell::new(Vec::new()),
-    };
+    let ex = Expander::new(program, transfer, options);
     let root = Scope::root();
     root.bind(
         "clock",

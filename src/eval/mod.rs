@@ -190,6 +190,22 @@ impl Names for At<'_, '_> {
 }
 
 impl<'p> Expander<'p> {
+    /// An expander with nothing counted yet.
+    fn new(program: &'p Program, transfer: Transfer, options: &'p Options) -> Self {
+        Expander {
+            program,
+            transfer,
+            options,
+            steps: Cell::new(0),
+            objects: Cell::new(0),
+            depth: Cell::new(0),
+            stopped: Cell::new(false),
+            context: RefCell::new(None),
+            known: RefCell::new(Vec::new()),
+            used_defines: RefCell::new(Vec::new()),
+        }
+    }
+
     fn at<'a>(&'a self, scope: &'a Rc<Scope>) -> At<'a, 'p> {
         At {
             ex: self,
