@@ -345,4 +345,30 @@ mod tests {
         assert!(Transform::scale(DVec3::new(1.0, 0.0, 1.0)).is_none());
         assert!(Transform::rotate(DVec3::ZERO, 10.0).is_none());
     }
+
+    /// `then` is the product for any two transforms, also those whose
+    /// matrices and inverses share no entry with the identity (dense,
+    /// projective ones, as `Transform::from_matrix` accepts): the shortcut
+    /// for two identities must see that they are not, entry by entry.
+    #[test]
+    fn then_is_the_product_when_no_entry_is_the_identitys() {
+        let m = DMat4::from_cols_array(&[
+            2.0, 1.0, 1.0, 1.0, 1.0, 3.0, 1.0, 1.0, 1.0, 1.0, 4.0, 1.0, 1.0, 1.0, 1.0, 5.0,
+        ]);
+        let a = Transform::from_matrix(m).expect("invertible");
+        let b = Transform::from_matrix(m.transpose() * 0.75).expect("invertible");
+        for t in [&a, &b] {
+            for x in [t.matrix, t.inverse] {
+                let differ = x
+                    .as_ref()
+                    .iter()
+                    .zip(DMat4::IDENTITY.as_ref())
+                    .all(|(p, q)| p.to_bits() != q.to_bits());
+                assert!(differ, "{x:?} shares an entry with the identity");
+            }
+        }
+        let ab = a.then(&b);
+        assert_eq!(ab.matrix, b.matrix * a.matrix);
+        assert_eq!(ab.inverse, a.inverse * b.inverse);
+    }
 }
