@@ -12,25 +12,9 @@ pub use ray::Ray;
 pub use rounding::{offset_along_unit, offset_ray_origin, shadow_ray_to, valid_reflection_normal};
 pub use transform::Transform;
 
-/// The old fixed offset, relative to the size of the coordinates. It does
-/// not follow a hit's own rounding error (see [`offset_ray_origin`]), and
-/// no renderer path uses it any more.
-pub fn surface_epsilon(p: DVec3) -> f64 {
-    1e-7 * (1.0 + p.abs().max_element())
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// 1e-7 · (1 + the largest |coordinate|): 1e-7 · 5 at (0, −4, 1), and
-    /// 1e-7 at the origin.
-    #[test]
-    fn the_old_surface_epsilon_follows_its_formula() {
-        assert_eq!(surface_epsilon(DVec3::new(0.0, -4.0, 1.0)), 1e-7 * 5.0);
-        assert_eq!(surface_epsilon(DVec3::new(3.0, 0.5, -2.0)), 1e-7 * 4.0);
-        assert_eq!(surface_epsilon(DVec3::ZERO), 1e-7);
-    }
 
     /// `origin + t·dir`, with a direction that is not unit length.
     #[test]
