@@ -22,8 +22,9 @@
 #
 # Knobs: PEER [../shared/peers/povray], RUNS [3], SIZE [1000], THREADS [2],
 # REUSE_POV [0; 1 reads POV-Ray's last results instead of running it again],
-# SCENES [all twelve], EMBREE [path to bunny_embree; built when missing; `none`
-# skips Embree], EMBREE_DIR [/tmp/embree-peer], PLY [../shared/data/bunny.ply]
+# SCENES [all twelve], BIN [the release build of this tree], EMBREE [path to
+# bunny_embree; built when missing; `none` skips Embree], EMBREE_DIR
+# [/tmp/embree-peer], PLY [../shared/data/bunny.ply]
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 PEER="${PEER:-$ROOT/../shared/peers/povray}"
@@ -48,8 +49,12 @@ pov_name() {
   esac
 }
 
-cargo build --release --quiet --manifest-path "$ROOT/Cargo.toml"
-BIN="$ROOT/target/release/raytrace"
+# BIN: a raytrace binary built elsewhere (another machine, an older
+# commit); unset, the release build of this tree.
+if [ -z "${BIN:-}" ]; then
+  cargo build --release --quiet --manifest-path "$ROOT/Cargo.toml"
+  BIN="$ROOT/target/release/raytrace"
+fi
 
 median() { sort -g | awk '{a[NR]=$1} END {print a[int((NR+1)/2)]}'; }
 spread() { sort -g | awk 'NR==1 {lo=$1} {hi=$1} END {printf "%.2f-%.2f", lo, hi}'; }

@@ -6,6 +6,13 @@
 //! its warnings are the same; on two cores the wall time of a long loop
 //! is the slower of the two stages instead of their sum (`many.rt`: its
 //! 100,000 spheres and 10,000 placements).
+//!
+//! Each part goes back to the evaluator once built, to be freed on the
+//! thread that allocated it: a block freed on another thread goes back to
+//! its arena under that arena's lock, which the evaluator is taking at
+//! the same time for its next part's blocks, and on a machine whose two
+//! threads sit on distant cores that lock and the freed blocks' cache
+//! lines shuttle between them for every block.
 
 use super::Builder;
 use crate::eval::{Options, TopLevel};
@@ -33,6 +40,7 @@ pub(super) fn evaluate_and_build(
     let mut known_len = b.env.known.len();
     let threaded = std::thread::scope(|s| {
         let (tx, rx) = mpsc::sync_channel::<Part>(PARTS_IN_FLIGHT);
+        let (built_tx, built) = mpsc::channel::<Vec<Item>>();
         let on_thread = &mut *b;
         // Building recurses as deep as the blocks nest: a main thread's
         // stack, not a spawned thread's 2 MiB.
@@ -45,6 +53,9 @@ pub(super) fn evaluate_and_build(
                         on_thread.env.known = known;
                     }
                     on_thread.top_level(&items);
+                    // An evaluator that has finished frees what is left
+                    // after the join; one that has panicked, nothing.
+                    let _ = built_tx.send(items);
                 }
             });
         // No thread to be had (the system's limit): build in between
@@ -54,6 +65,7 @@ pub(super) fn evaluate_and_build(
         };
         let out =
             crate::eval::evaluate_in_parts_bound(program, transfer, options, |items, known| {
+                built.try_iter().for_each(drop);
                 let changed = known.len() != known_len;
                 known_len = known.len();
                 // A builder that panicked has hung up: its panic is raised
@@ -64,6 +76,7 @@ pub(super) fn evaluate_and_build(
         if let Err(panic) = builder.join() {
             std::panic::resume_unwind(panic);
         }
+        built.try_iter().for_each(drop);
         Some(out)
     });
     threaded.unwrap_or_else(|| {
