@@ -148,8 +148,16 @@ struct Builder<'p> {
     background_given: bool,
     /// The area lights of each object value, in its own space.
     instance_lights: HashMap<InstanceKey, Vec<super::AreaLight>>,
-    /// Which loop iteration or call made what is being built.
-    trace: Option<crate::eval::TraceRef>,
+    /// How many loop iterations or calls (each with its trace) enclose
+    /// what is being built.
+    traced_depth: u32,
+    /// Mistakes reported inside the innermost of those, by index in
+    /// `errors`, waiting for its trace: each is added to its message when
+    /// the iteration has been read ([`Builder::traced`]) rather than the
+    /// trace being copied in for every iteration, mistake or not (a copy
+    /// is two atomic counts on a line the evaluator's thread is counting
+    /// on too).
+    untrailed: Vec<usize>,
     /// Mistakes reported so far, by place and message: one written inside
     /// a loop is reported once (for the first iteration), not per iteration.
     reported: std::collections::HashSet<(Span, String)>,
@@ -220,7 +228,8 @@ impl<'p> Builder<'p> {
             light_surface: None,
             background_given: false,
             instance_lights: HashMap::new(),
-            trace: None,
+            traced_depth: 0,
+            untrailed: Vec::new(),
             reported: Default::default(),
             instances: HashMap::new(),
             plain_materials: HashMap::default(),
@@ -230,18 +239,15 @@ impl<'p> Builder<'p> {
     }
 
     /// Reports a mistake, saying which loop iteration or call made the
-    /// thing it is in.
-    fn err(&mut self, mut e: Error) {
+    /// thing it is in (added once that iteration has been read: see
+    /// [`Builder::traced`]).
+    fn err(&mut self, e: Error) {
         self.err_calls += 1;
         if !self.reported.insert((e.span, e.message.clone())) {
             return;
         }
-        if let Some(t) = &self.trace {
-            let trail = crate::eval::trail(&t.lines(&self.program.sources));
-            e.help = Some(match e.help {
-                Some(h) => format!("{h}\n{trail}"),
-                None => trail,
-            });
+        if self.traced_depth > 0 {
+            self.untrailed.push(self.errors.len());
         }
         self.errors.push(e);
     }
@@ -255,9 +261,20 @@ impl<'p> Builder<'p> {
         let Some(t) = trace else {
             return f(self);
         };
-        let outer = self.trace.replace(t.clone());
+        let mark = self.untrailed.len();
+        self.traced_depth += 1;
         let out = f(self);
-        self.trace = outer;
+        self.traced_depth -= 1;
+        if self.untrailed.len() > mark {
+            let trail = crate::eval::trail(&t.lines(&self.program.sources));
+            for i in self.untrailed.drain(mark..) {
+                let e = &mut self.errors[i];
+                e.help = Some(match e.help.take() {
+                    Some(h) => format!("{h}\n{trail}"),
+                    None => trail.clone(),
+                });
+            }
+        }
         out
     }
 
