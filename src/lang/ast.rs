@@ -272,9 +272,13 @@ pub struct Expr {
     pub span: Span,
 }
 
-/// A name in an expression: shared, because the evaluator copies every
-/// keyword it passes on (`sphere`, `radius`, … once per loop iteration).
-pub type Name = std::sync::Arc<str>;
+/// A name in an expression. The evaluator copies every keyword it passes
+/// on (`sphere`, `radius`, … once per loop iteration), so a name is held
+/// inline (up to 23 bytes, longer ones shared): copying a shared string
+/// counts up and down on one cache line that the builder's thread reads
+/// the same words from, and on a machine whose cores are far apart that
+/// line travelled between them for every keyword of every iteration.
+pub type Name = smol_str::SmolStr;
 
 /// `a == b` for names and keywords, the first byte looked at before the
 /// rest: most names a lookup passes differ in length or first letter
