@@ -388,13 +388,16 @@ mod tests {
         let mut options = Options::default();
         options.limits.steps = 10_000;
         let ex = expander(&program, &options);
-        // From 1: up to 4095 without reaching the cancel look at 4096.
-        assert!(ex.take_steps(4094));
-        assert_eq!(ex.steps.get(), 4095);
-        assert!(!ex.take_steps(1), "4095 + 1 lands on the look");
+        // From 1: the steps counted 1 to 4095, not the cancel look at 4096.
+        assert!(!ex.take_steps(4096));
+        assert_eq!(ex.steps.get(), 1, "nothing taken");
+        assert!(ex.take_steps(4095));
+        assert_eq!(ex.steps.get(), 4096);
+        assert!(!ex.take_steps(1), "a look due now");
         ex.steps.set(4097);
-        assert!(!ex.take_steps(4095));
-        assert!(ex.take_steps(4094));
+        assert!(!ex.take_steps(4096));
+        assert!(ex.take_steps(4095));
+        assert_eq!(ex.steps.get(), 8192);
         // The budget: up to it, not past it.
         ex.steps.set(9990);
         assert!(!ex.take_steps(11));
