@@ -6,28 +6,25 @@
 use super::*;
 
 impl<'p> Expander<'p> {
+    /// Takes a step, the evaluation's own or an expression's, or reports
+    /// the budget spent (once) and says to stop.
     pub(super) fn step(&self, span: Span, errors: &mut Vec<Error>) -> bool {
-        if self.stopped.get() {
-            return false;
-        }
-        // Every expression and item takes a step: the common case (no
-        // cancel check due, budget left) is kept apart from the rest, whose
-        // message building made each call save and restore registers.
-        let n = self.steps.get();
-        if !n.is_multiple_of(4096) && n < self.options.limits.steps {
-            self.steps.set(n + 1);
-            return true;
-        }
-        self.step_checked(span, errors)
+        // The common case (no cancel check due, budget left) is kept apart
+        // from the rest, whose message building made each call save and
+        // restore registers.
+        self.take_steps(1) || (!self.stopped.get() && self.step_checked(span, errors))
     }
 
-    /// `k` steps at once, for [`fast::value`], when [`Expander::step`]
-    /// would take each of them without a check (no cancel look due, the
-    /// budget not reached): false, with nothing taken, otherwise.
+    /// `k` steps (k ≥ 1) at once, where [`Expander::step`] would take
+    /// each of them without a check: the evaluation not stopped, no cancel
+    /// look due before any of them (the count not a multiple of 4096),
+    /// the budget not passed by the last; false, with nothing taken,
+    /// otherwise. [`fast::value`] takes its expression's steps so.
+    #[inline(always)]
     pub(super) fn take_steps(&self, k: u64) -> bool {
         let n = self.steps.get();
-        let room = 4096 - n % 4096;
-        if self.stopped.get() || n.is_multiple_of(4096) || k >= room {
+        let into = n % 4096;
+        if self.stopped.get() || into == 0 || k > 4096 - into {
             return false;
         }
         match n.checked_add(k) {
@@ -42,12 +39,7 @@ impl<'p> Expander<'p> {
     /// [`Expander::step`] for an item, whose span (which a loop's items
     /// work out from their first and last) is only wanted for a message.
     pub(super) fn step_item(&self, item: &Item, errors: &mut Vec<Error>) -> bool {
-        let n = self.steps.get();
-        if !self.stopped.get() && !n.is_multiple_of(4096) && n < self.options.limits.steps {
-            self.steps.set(n + 1);
-            return true;
-        }
-        self.step(item.span(), errors)
+        self.take_steps(1) || self.step(item.span(), errors)
     }
 
     /// [`Expander::step`] when the cancel flag is due a look or the budget

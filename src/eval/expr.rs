@@ -4,9 +4,10 @@
 //!
 //! Names are looked up through [`Names`]: the evaluator (`eval::Expander`)
 //! gives its scopes and user functions, the builder its leftovers.
-//! One file, the language's values and what works on them; the built-ins
-//! could move out, but `.cargo/mutants.toml` names lines of this file.
+//! One file, the language's values and what works on them, but for the
+//! numeric built-ins' formulas (`builtins.rs`, shared with `fast.rs`).
 
+use super::builtins::{Builtin, Refusal};
 use super::colours::{COLOURS, named_colour};
 use crate::lang::ast::{BinOp, Expr, ExprKind, Item, Span, Spanned};
 use crate::lang::diagnostics::{Error, did_you_mean};
@@ -59,6 +60,16 @@ impl Fragment {
 }
 
 impl Value {
+    /// No infinity or NaN in it (the evaluator gives no other value).
+    pub fn is_finite(&self) -> bool {
+        match self {
+            Value::Number(x) => x.is_finite(),
+            Value::Vector(xs) => xs.iter().all(|x| x.is_finite()),
+            Value::Colour(c) => c.is_finite(),
+            Value::Bool(_) | Value::List(_) | Value::Items(_) => true,
+        }
+    }
+
     pub fn kind(&self) -> String {
         match self {
             Value::Number(_) => "a number".into(),
@@ -563,13 +574,7 @@ fn index(base: Value, i: Value, be: &Expr, ie: &Expr, errors: &mut Vec<Error>) -
 
 #[inline]
 fn finite(v: Value, e: &Expr, errors: &mut Vec<Error>) -> Option<Value> {
-    let ok = match &v {
-        Value::Number(x) => x.is_finite(),
-        Value::Vector(xs) => xs.iter().all(|x| x.is_finite()),
-        Value::Colour(c) => c.is_finite(),
-        Value::Bool(_) | Value::List(_) | Value::Items(_) => true,
-    };
-    if ok {
+    if v.is_finite() {
         Some(v)
     } else {
         errors.push(
@@ -597,18 +602,24 @@ pub(super) fn arithmetic(op: BinOp, x: f64, y: f64) -> Option<f64> {
     })
 }
 
-/// `x.rem_euclid(y)`, bit for bit, for `y` not 0: whole numbers (a loop's
-/// `i % 10`) in integers, as `%` on floats is a slow software `fmod`.
+/// `x.rem_euclid(y)`, bit for bit, for `y` not 0: whole numbers below
+/// 2⁵³ (a loop's `i % 10`) in integers, as `%` on floats is a slow
+/// software `fmod`; told whole by a round trip through `i64` rather than
+/// by `fract`, a call into libm on the machines without SSE4.1 that the
+/// binary is built for.
 #[inline]
-fn rem_euclid(x: f64, y: f64) -> f64 {
+pub(super) fn rem_euclid(x: f64, y: f64) -> f64 {
     const EXACT: f64 = (1u64 << 53) as f64;
-    if x.fract() == 0.0 && y.fract() == 0.0 && x.abs() < EXACT && y.abs() < EXACT {
-        // `fmod`'s remainder has the sign of `x`, a zero one included.
-        let r = match (x as i64) % (y as i64) {
-            0 => 0.0f64.copysign(x),
-            r => r as f64,
-        };
-        return if r < 0.0 { r + y.abs() } else { r };
+    if x.abs() < EXACT && y.abs() < EXACT {
+        let (a, b) = (x as i64, y as i64);
+        if a as f64 == x && b as f64 == y {
+            // `fmod`'s remainder has the sign of `x`, a zero one included.
+            let r = match a % b {
+                0 => 0.0f64.copysign(x),
+                r => r as f64,
+            };
+            return if r < 0.0 { r + y.abs() } else { r };
+        }
     }
     x.rem_euclid(y)
 }
@@ -825,61 +836,16 @@ fn call(
         }
         _ => {
             let x = nums(errors)?;
-            let domain = |ok: bool, what: &str, errors: &mut Vec<Error>| {
-                if !ok {
+            let f = Builtin::named(name).expect("checked against FUNCTIONS");
+            match f.apply(x) {
+                Ok(v) => v,
+                Err(Refusal { arg, what }) => {
                     errors.push(
-                        Error::new(args[0].span, what.to_string())
-                            .label(format!("this is {}", x[0])),
+                        Error::new(args[arg].span, what).label(format!("this is {}", x[arg])),
                     );
+                    return None;
                 }
-                ok
-            };
-            Value::Number(match name {
-                "sqrt" => {
-                    if !domain(x[0] >= 0.0, "square root of a negative number", errors) {
-                        return None;
-                    }
-                    x[0].sqrt()
-                }
-                "log" => {
-                    if !domain(
-                        x[0] > 0.0,
-                        "logarithm of a number that is not positive",
-                        errors,
-                    ) {
-                        return None;
-                    }
-                    x[0].ln()
-                }
-                "sin" => x[0].sin(),
-                "cos" => x[0].cos(),
-                "tan" => x[0].tan(),
-                "rad" => x[0].to_radians(),
-                "deg" => x[0].to_degrees(),
-                "abs" => x[0].abs(),
-                "min" => x[0].min(x[1]),
-                "max" => x[0].max(x[1]),
-                "exp" => x[0].exp(),
-                "floor" => x[0].floor(),
-                "ceil" => x[0].ceil(),
-                "round" => x[0].round(),
-                "atan2" => x[0].atan2(x[1]),
-                "clamp" => x[0].max(x[1]).min(x[2]),
-                "random" => random(x[0], x[1]),
-                "rgb" => {
-                    for (c, a) in x.iter().zip(args) {
-                        if *c < 0.0 {
-                            errors.push(
-                                Error::new(a.span, "a colour component cannot be negative")
-                                    .label(format!("this is {c}")),
-                            );
-                            return None;
-                        }
-                    }
-                    return finite(Value::Colour(Colour::new(x[0], x[1], x[2])), e, errors);
-                }
-                _ => unreachable!("checked against FUNCTIONS"),
-            })
+            }
         }
     };
     finite(out, e, errors)

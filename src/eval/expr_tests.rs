@@ -755,3 +755,43 @@ fn random_is_splitmix64_of_its_two_arguments() {
     assert_eq!(random(0.0, f64::from_bits(FIRST)), want);
     assert_eq!(random(-0.0, f64::from_bits(FIRST)), want);
 }
+
+/// The integer path (which the walk and the short cut share, through
+/// `arithmetic`) changes no bit of any remainder, a zero's sign included.
+#[test]
+fn whole_remainders_are_rem_euclids_bit_for_bit() {
+    let e = (1u64 << 53) as f64;
+    let xs = [
+        0.0,
+        -0.0,
+        1.0,
+        -1.0,
+        7.0,
+        -7.0,
+        10.0,
+        0.5,
+        -2.5,
+        3.75,
+        e - 1.0,
+        -(e - 1.0),
+        e,
+        -e,
+        e + 2.0,
+        1e300,
+        -1e300,
+        123456789.0,
+        // 2^63, which saturates an i64 to 2^63 − 1 and converts back
+        // to itself: only |x| below 2^53 may take the integers.
+        2.0 * (1u64 << 62) as f64,
+        -2.0 * (1u64 << 62) as f64,
+    ];
+    for &x in &xs {
+        for &y in &xs {
+            if y == 0.0 {
+                continue;
+            }
+            let want = x.rem_euclid(y);
+            assert_eq!(rem_euclid(x, y).to_bits(), want.to_bits(), "{x} % {y}");
+        }
+    }
+}

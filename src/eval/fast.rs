@@ -12,6 +12,7 @@
 //! each return a 40-byte `Value` through memory and look their name up
 //! one scope at a time, about half of `many`'s evaluation.
 
+use super::builtins::Builtin;
 use super::*;
 use crate::lang::ast::BinOp;
 
@@ -57,34 +58,11 @@ fn number(at: &At, e: &Expr, steps: &mut u64) -> Option<f64> {
         {
             let a = number(at, lhs, steps)?;
             let b = number(at, rhs, steps)?;
-            let v = match op {
-                BinOp::Rem if b != 0.0 => rem(a, b),
-                _ => expr::arithmetic(*op, a, b)?,
-            };
+            let v = expr::arithmetic(*op, a, b)?;
             v.is_finite().then_some(v)
         }
         _ => None,
     }
-}
-
-/// `x % y` as [`expr::arithmetic`] gives it, for y ≠ 0: integers below
-/// 2⁵³ (`i % 10`) told apart by a round trip through `i64` rather than
-/// by `fract`, which is a call into libm on the machines without SSE4.1
-/// that the binary is built for.
-fn rem(x: f64, y: f64) -> f64 {
-    const EXACT: f64 = (1u64 << 53) as f64;
-    if x.abs() < EXACT && y.abs() < EXACT {
-        let (a, b) = (x as i64, y as i64);
-        if a as f64 == x && b as f64 == y {
-            // `fmod`'s remainder has the sign of `x`, a zero one included.
-            let r = match a % b {
-                0 => 0.0f64.copysign(x),
-                r => r as f64,
-            };
-            return if r < 0.0 { r + y.abs() } else { r };
-        }
-    }
-    expr::arithmetic(BinOp::Rem, x, y).unwrap_or(f64::NAN)
 }
 
 /// A call of a numeric built-in with numbers (its node's step counted by
@@ -96,7 +74,7 @@ fn call(
     named: &[(Spanned<String>, Expr)],
     steps: &mut u64,
 ) -> Option<Value> {
-    let f = builtin(name)?;
+    let f = Builtin::named(name)?;
     if !named.is_empty() || args.len() != f.arity() || at.scope.with(name, |_| ()).is_some() {
         return None;
     }
@@ -104,104 +82,7 @@ fn call(
     for (x, a) in x.iter_mut().zip(args) {
         *x = number(at, a, steps)?;
     }
-    f.apply(x)
-}
-
-/// The numeric built-ins (those of vectors and lists read their
-/// arguments' kinds and are left to the walk).
-#[derive(Clone, Copy, Debug, PartialEq)]
-enum Builtin {
-    Sqrt,
-    Sin,
-    Cos,
-    Tan,
-    Rad,
-    Deg,
-    Abs,
-    Min,
-    Max,
-    Rgb,
-    Exp,
-    Log,
-    Floor,
-    Ceil,
-    Round,
-    Atan2,
-    Clamp,
-    Random,
-}
-
-/// The built-in `name` names, by its bytes: a `match` on `&str` compares
-/// each arm with `memcmp`, and `rgb` is the tenth.
-fn builtin(name: &str) -> Option<Builtin> {
-    use Builtin::*;
-    Some(match name.as_bytes() {
-        b"rgb" => Rgb,
-        b"sqrt" => Sqrt,
-        b"sin" => Sin,
-        b"cos" => Cos,
-        b"tan" => Tan,
-        b"rad" => Rad,
-        b"deg" => Deg,
-        b"abs" => Abs,
-        b"min" => Min,
-        b"max" => Max,
-        b"exp" => Exp,
-        b"log" => Log,
-        b"floor" => Floor,
-        b"ceil" => Ceil,
-        b"round" => Round,
-        b"atan2" => Atan2,
-        b"clamp" => Clamp,
-        b"random" => Random,
-        _ => return None,
-    })
-}
-
-impl Builtin {
-    fn arity(self) -> usize {
-        use Builtin::*;
-        match self {
-            Rgb | Clamp => 3,
-            Min | Max | Atan2 | Random => 2,
-            _ => 1,
-        }
-    }
-
-    /// `expr::call`'s answer for numbers `x` (unused places 0), or `None`
-    /// where it would write a message (a negative colour component, the
-    /// square root of a negative number, a result that is not finite).
-    fn apply(self, x: [f64; 3]) -> Option<Value> {
-        use Builtin::*;
-        let n = match self {
-            Rgb => {
-                if x.iter().any(|c| *c < 0.0) {
-                    return None;
-                }
-                let c = crate::scene::Colour::new(x[0], x[1], x[2]);
-                return c.is_finite().then_some(Value::Colour(c));
-            }
-            Sqrt if x[0] >= 0.0 => x[0].sqrt(),
-            Log if x[0] > 0.0 => x[0].ln(),
-            Sqrt | Log => return None,
-            Sin => x[0].sin(),
-            Cos => x[0].cos(),
-            Tan => x[0].tan(),
-            Rad => x[0].to_radians(),
-            Deg => x[0].to_degrees(),
-            Abs => x[0].abs(),
-            Min => x[0].min(x[1]),
-            Max => x[0].max(x[1]),
-            Exp => x[0].exp(),
-            Floor => x[0].floor(),
-            Ceil => x[0].ceil(),
-            Round => x[0].round(),
-            Atan2 => x[0].atan2(x[1]),
-            Clamp => x[0].max(x[1]).min(x[2]),
-            Random => expr::random(x[0], x[1]),
-        };
-        n.is_finite().then_some(Value::Number(n))
-    }
+    f.apply(x).ok().filter(Value::is_finite)
 }
 
 #[cfg(test)]
@@ -502,75 +383,21 @@ mod tests {
     }
 
     #[test]
-    fn remainders_are_the_walks_bit_for_bit() {
-        let e = (1u64 << 53) as f64;
-        let xs = [
-            0.0,
-            -0.0,
-            1.0,
-            -1.0,
-            7.0,
-            -7.0,
-            10.0,
-            0.5,
-            -2.5,
-            3.75,
-            e - 1.0,
-            -(e - 1.0),
-            e,
-            -e,
-            e + 2.0,
-            1e300,
-            -1e300,
-            123456789.0,
-            // 2^63, which saturates an i64 to 2^63 − 1 and converts back
-            // to itself: only |x| below 2^53 may take the integers.
-            2.0 * (1u64 << 62) as f64,
-            -2.0 * (1u64 << 62) as f64,
-        ];
-        for &x in &xs {
-            for &y in &xs {
-                if y == 0.0 {
-                    continue;
-                }
-                let want = expr::arithmetic(BinOp::Rem, x, y).expect("y is not 0");
-                assert_eq!(rem(x, y).to_bits(), want.to_bits(), "{x} % {y}");
-            }
-        }
-    }
-
-    #[test]
-    fn the_built_ins_it_knows_are_those_of_numbers_with_their_counts() {
-        for &(name, arity) in expr::FUNCTIONS {
-            match builtin(name) {
-                Some(f) => assert_eq!(f.arity(), arity, "{name}"),
-                None => assert!(
-                    matches!(
-                        name,
-                        "normalize" | "length" | "dot" | "cross" | "len" | "lerp"
-                    ),
-                    "{name}"
-                ),
-            }
-        }
-        for name in ["rg", "rgbb", "Rgb", "sqr", "f", ""] {
-            assert_eq!(builtin(name), None, "{name}");
-        }
-    }
-
-    #[test]
     fn steps_are_taken_at_once_only_where_each_would_be_taken_without_a_check() {
         let (program, _) = parsed("1");
         let mut options = Options::default();
         options.limits.steps = 10_000;
         let ex = expander(&program, &options);
-        // From 1: up to 4095 without reaching the cancel look at 4096.
-        assert!(ex.take_steps(4094));
-        assert_eq!(ex.steps.get(), 4095);
-        assert!(!ex.take_steps(1), "4095 + 1 lands on the look");
+        // From 1: the steps counted 1 to 4095, not the cancel look at 4096.
+        assert!(!ex.take_steps(4096));
+        assert_eq!(ex.steps.get(), 1, "nothing taken");
+        assert!(ex.take_steps(4095));
+        assert_eq!(ex.steps.get(), 4096);
+        assert!(!ex.take_steps(1), "a look due now");
         ex.steps.set(4097);
-        assert!(!ex.take_steps(4095));
-        assert!(ex.take_steps(4094));
+        assert!(!ex.take_steps(4096));
+        assert!(ex.take_steps(4095));
+        assert_eq!(ex.steps.get(), 8192);
         // The budget: up to it, not past it.
         ex.steps.set(9990);
         assert!(!ex.take_steps(11));

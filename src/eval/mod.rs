@@ -17,6 +17,7 @@
 //! Runaway programs stop at [`Limits`], each named in its message.
 
 mod budget;
+mod builtins;
 mod calls;
 mod entry;
 mod fast;

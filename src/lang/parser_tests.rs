@@ -175,3 +175,17 @@ fn syntax_errors_use_our_words() {
     );
     assert!(!e[0].message.contains("expr"));
 }
+
+/// The statement keywords are the other statements' and then every
+/// object's, each once.
+#[test]
+fn statement_keywords_are_the_statements_and_the_objects() {
+    let (head, objects) = STATEMENT_KEYWORDS.split_at(STATEMENT_KEYWORDS.len() - OBJECTS.len());
+    assert_eq!(objects, OBJECTS);
+    assert_eq!(head, STATEMENTS);
+    assert!(head.contains(&"camera") && head.contains(&"fn"));
+    for (i, k) in STATEMENT_KEYWORDS.iter().enumerate() {
+        assert!(!k.is_empty());
+        assert!(!STATEMENT_KEYWORDS[..i].contains(k), "{k} twice");
+    }
+}

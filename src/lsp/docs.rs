@@ -205,7 +205,7 @@ pub fn word(w: &str) -> Option<String> {
         "union" | "intersection" | "difference" => {
             Some(format!("{}\n\n{}", objects()?, opening(s("## CSG")?)))
         }
-        "translate" | "rotate" | "scale" | "shear" | "mirror" | "matrix" => {
+        _ if crate::scene::is_transform(w) => {
             let t = s("## Transforms")?;
             let para = opening(t);
             let para = para.rsplit("\n\n").next().unwrap_or("");
@@ -242,9 +242,7 @@ pub fn parameter(block: &str, param: &str) -> Option<String> {
     if crate::scene::is_object(block) {
         // The objects' table has a row per object: show that row.
         return match param {
-            "material" | "translate" | "rotate" | "scale" | "shear" | "mirror" | "matrix" => {
-                word(param)
-            }
+            _ if param == "material" || crate::scene::is_transform(param) => word(param),
             _ => table_row(t, block),
         };
     }

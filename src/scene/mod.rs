@@ -12,7 +12,7 @@ pub mod texture;
 
 pub use build::{
     Checked, ParamInfo, block_parameters, build, build_with, build_with_warnings,
-    canonical_parameter, check, is_object,
+    canonical_parameter, check, is_object, is_transform,
 };
 pub use camera::{Camera, PixelRays, Projection, ThinLens};
 pub use colour::{Colour, Transfer};

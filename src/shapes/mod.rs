@@ -382,6 +382,33 @@ pub(crate) mod testing {
         [1, 3, 7, 5],
     ];
 
+    /// A shape that gives only what every shape must (`intersect`,
+    /// `crossings`, `bounds`, `is_solid`), passed on to the shape `S`
+    /// points to (borrowed or boxed): the trait's defaults answer the
+    /// rest, and a borrowed shape can be placed under several transforms
+    /// without being rebuilt.
+    #[derive(Debug)]
+    pub struct Bare<S>(pub S);
+
+    impl<S> Shape for Bare<S>
+    where
+        S: std::ops::Deref + Send + Sync + std::fmt::Debug,
+        S::Target: Shape,
+    {
+        fn intersect(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<Hit> {
+            self.0.intersect(ray, t_min, t_max)
+        }
+        fn crossings(&self, ray: &Ray, out: &mut Vec<Hit>) {
+            self.0.crossings(ray, out)
+        }
+        fn bounds(&self) -> Aabb {
+            self.0.bounds()
+        }
+        fn is_solid(&self) -> bool {
+            self.0.is_solid()
+        }
+    }
+
     /// Numbers in [−1, 1), the same every run (a 64-bit LCG's top bits).
     pub fn numbers(seed: u64) -> impl FnMut() -> f64 {
         let mut s = seed.wrapping_mul(6364136223846793005).wrapping_add(1);

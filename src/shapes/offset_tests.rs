@@ -106,7 +106,7 @@ fn self_hits(shape: &'static dyn Shape, scale: f64, offset: DVec3) -> (usize, us
     let xf = Transform::scale(DVec3::splat(scale))
         .unwrap()
         .then(&Transform::translate(offset));
-    let placed = Transformed::new(Box::new(ShapeRef(shape)), xf);
+    let placed = Transformed::new(Box::new(testing::Bare(shape)), xf);
     let (mut bad, mut tried) = (0, 0);
     for r in testing::rays_towards(DVec3::ZERO, 1.0, 400, 77) {
         let ray = Ray::new(xf.point(r.origin), xf.vector(r.dir).normalize());
@@ -133,26 +133,6 @@ fn self_hits(shape: &'static dyn Shape, scale: f64, offset: DVec3) -> (usize, us
         }
     }
     (bad, tried)
-}
-
-/// A shape borrowed for placing under several transforms without being
-/// rebuilt (the kinds are leaked once, so the borrow is 'static).
-#[derive(Debug)]
-struct ShapeRef(&'static dyn Shape);
-
-impl Shape for ShapeRef {
-    fn intersect(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<Hit> {
-        self.0.intersect(ray, t_min, t_max)
-    }
-    fn crossings(&self, ray: &Ray, out: &mut Vec<Hit>) {
-        self.0.crossings(ray, out)
-    }
-    fn bounds(&self) -> Aabb {
-        self.0.bounds()
-    }
-    fn is_solid(&self) -> bool {
-        self.0.is_solid()
-    }
 }
 
 #[test]

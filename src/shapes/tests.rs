@@ -4,7 +4,7 @@
 
 use super::*;
 use crate::geometry::rounding::gamma;
-use crate::shapes::testing::numbers;
+use crate::shapes::testing::{Bare, numbers};
 
 #[test]
 fn quadratic_is_stable_for_tiny_roots() {
@@ -253,27 +253,6 @@ fn the_barycentric_points_bound_holds_the_exact_point() {
     }
 }
 
-/// A shape that gives only what every shape must (`intersect`,
-/// `crossings`, `bounds`, `is_solid`): a sphere underneath. The trait's
-/// defaults answer the rest.
-#[derive(Debug)]
-struct Bare(Sphere);
-
-impl Shape for Bare {
-    fn intersect(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<Hit> {
-        self.0.intersect(ray, t_min, t_max)
-    }
-    fn crossings(&self, ray: &Ray, out: &mut Vec<Hit>) {
-        self.0.crossings(ray, out)
-    }
-    fn bounds(&self) -> Aabb {
-        self.0.bounds()
-    }
-    fn is_solid(&self) -> bool {
-        self.0.is_solid()
-    }
-}
-
 /// The trait's defaults: a shadow ray is blocked exactly when the nearest
 /// hit is in the window; a shape is never said to miss a shadow shaft it
 /// may meet (the default is "unsure"), even one it cuts through; no
@@ -282,7 +261,8 @@ impl Shape for Bare {
 #[test]
 fn the_traits_defaults_answer_from_the_required_methods() {
     let _watchdog = crate::watchdog::start();
-    let s = Bare(Sphere::new(DVec3::new(0.2, -0.1, 0.3), 1.0, 6));
+    let sphere = Sphere::new(DVec3::new(0.2, -0.1, 0.3), 1.0, 6);
+    let s = Bare(&sphere);
     let mut blocked = 0;
     for r in testing::rays_towards(DVec3::ZERO, 1.5, 300, 8) {
         let first = s.intersect(&r, 0.0, f64::INFINITY).map(|h| h.t);

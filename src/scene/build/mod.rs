@@ -51,7 +51,7 @@ pub const MAX_DEPTH: u32 = 64;
 
 pub use catalogue::{ParamInfo, block_parameters};
 pub use objects::is_object;
-pub use params::canonical as canonical_parameter;
+pub use params::{canonical as canonical_parameter, is_transform};
 
 /// Evaluates and builds the scene, reporting every mistake of the program
 /// at once.

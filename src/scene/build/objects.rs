@@ -19,48 +19,8 @@ use crate::shapes::{
 };
 use std::sync::Arc;
 
-pub const OBJECTS: &[&str] = &[
-    "sphere",
-    "plane",
-    "box",
-    "cylinder",
-    "cone",
-    "disc",
-    "triangle",
-    "rectangle",
-    "torus",
-    "implicit",
-    "mesh",
-    "group",
-    "union",
-    "intersection",
-    "difference",
-];
-
-/// Whether `name` is one of [`OBJECTS`]. A `match` rather than a search
-/// of the list: the evaluator asks it of every bare name it passes on (a
-/// loop-built sphere asks five times), and the compiler's dispatch on
-/// length and bytes takes a tenth of the list's string compares.
-pub fn is_object(name: &str) -> bool {
-    matches!(
-        name,
-        "sphere"
-            | "plane"
-            | "box"
-            | "cylinder"
-            | "cone"
-            | "disc"
-            | "triangle"
-            | "rectangle"
-            | "torus"
-            | "implicit"
-            | "mesh"
-            | "group"
-            | "union"
-            | "intersection"
-            | "difference"
-    )
-}
+/// The object kinds are words of the language: the parser's list.
+pub use crate::lang::parser::{OBJECTS, is_object};
 
 /// `implicit "…"` and `mesh "…"` take a string before their block.
 pub fn takes_string(name: &str) -> bool {

@@ -50,7 +50,21 @@ pub struct Schema {
     pub children: bool,
 }
 
-pub const TRANSFORMS: &[Spec] = &[
+/// The transforms, written once: the list [`TRANSFORMS`] and the `match`
+/// of [`is_transform`] are made from it.
+macro_rules! transforms {
+    ($(spec($name:literal, $arity:literal, $expects:literal $(,)?)),+ $(,)?) => {
+        pub const TRANSFORMS: &[Spec] = &[$(spec($name, $arity, $expects)),+];
+
+        /// Whether `name` is one of [`TRANSFORMS`] (a `match`: asked of
+        /// every parameter of every object).
+        pub fn is_transform(name: &str) -> bool {
+            matches!(name, $($name)|+)
+        }
+    };
+}
+
+transforms![
     spec("translate", 1, "a 3-vector"),
     spec(
         "rotate",
@@ -72,15 +86,6 @@ const MATERIAL_PARAM: Spec = spec(
     1,
     "a material name or a block `{ colour …  reflect … }`",
 );
-
-/// Whether `name` is one of [`TRANSFORMS`] (a `match`: asked of every
-/// parameter of every object).
-pub fn is_transform(name: &str) -> bool {
-    matches!(
-        name,
-        "translate" | "rotate" | "scale" | "shear" | "mirror" | "matrix"
-    )
-}
 
 impl Schema {
     pub fn get(&self, name: &str) -> Option<&'static Spec> {
