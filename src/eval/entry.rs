@@ -100,15 +100,50 @@ pub struct TopLevel {
     pub value: Option<Value>,
 }
 
+/// Where [`evaluate_into`] hands its parts. A closure `|items, known| …`
+/// is one.
+pub trait Sink {
+    /// A part, with the names bound so far.
+    fn part(&mut self, items: Vec<Item>, known: &[String]);
+
+    /// A sink that gets its parts back once they are used (the builder on
+    /// its own thread) can free them a little at a time: the evaluator
+    /// calls this after every loop iteration, at any depth. Freeing one
+    /// used iteration there gives the allocator back blocks of the very
+    /// sizes the next iteration asks for, from its per-thread cache; a
+    /// part freed at once (hundreds of iterations) overflows that cache
+    /// into the slower shared bins.
+    fn recycler(&mut self) -> Option<Box<dyn FnMut()>> {
+        None
+    }
+}
+
+impl<F: FnMut(Vec<Item>, &[String])> Sink for F {
+    fn part(&mut self, items: Vec<Item>, known: &[String]) {
+        self(items, known)
+    }
+}
+
 /// As [`evaluate_in_parts`], also giving the top-level `let`s and their
 /// values (functions are not values and are left out).
 pub fn evaluate_in_parts_bound(
     program: &Program,
     transfer: Transfer,
     options: &Options,
-    mut sink: impl FnMut(Vec<Item>, &[String]),
+    sink: impl FnMut(Vec<Item>, &[String]),
+) -> (Vec<Error>, Vec<TopLevel>) {
+    evaluate_into(program, transfer, options, sink)
+}
+
+/// As [`evaluate_in_parts_bound`], into any [`Sink`].
+pub fn evaluate_into<S: Sink>(
+    program: &Program,
+    transfer: Transfer,
+    options: &Options,
+    mut sink: S,
 ) -> (Vec<Error>, Vec<TopLevel>) {
     let ex = Expander::new(program, transfer, options);
+    *ex.recycle.borrow_mut() = sink.recycler();
     let root = Scope::root();
     root.bind(
         "clock",
@@ -164,14 +199,14 @@ pub fn evaluate_in_parts_bound(
                     // The next part starts at full size rather than
                     // growing (and copying) from nothing.
                     let part = std::mem::replace(&mut pending, Vec::with_capacity(PART_ITEMS));
-                    sink(part, &ex.known.borrow());
+                    sink.part(part, &ex.known.borrow());
                 }
             };
             if ex.step(items[start].span(), &mut errors) {
                 ex.for_loop(var, source, body, *span, &root, &mut emit, &mut errors);
             }
             if !pending.is_empty() {
-                sink(pending, &ex.known.borrow());
+                sink.part(pending, &ex.known.borrow());
             }
             start = end;
             continue;
@@ -179,7 +214,7 @@ pub fn evaluate_in_parts_bound(
         let mut out = Vec::new();
         ex.expand(&items[start..end], &root, true, &mut out, &mut errors);
         if !out.is_empty() {
-            sink(out, &ex.known.borrow());
+            sink.part(out, &ex.known.borrow());
         }
         start = end;
     }

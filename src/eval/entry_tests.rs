@@ -224,3 +224,29 @@ fn define_values() {
     );
     assert_eq!(define_value("q"), Err("`q`: unknown name `q`".into()));
 }
+
+/// A sink's recycler runs once after every loop iteration, inner loops'
+/// included, so that it can free as many used iterations as were made.
+#[test]
+fn the_recycler_runs_after_every_iteration_at_any_depth() {
+    struct Counting(std::rc::Rc<std::cell::Cell<u32>>);
+    impl Sink for &mut Counting {
+        fn part(&mut self, _: Vec<Item>, _: &[String]) {}
+        fn recycler(&mut self) -> Option<Box<dyn FnMut()>> {
+            let n = self.0.clone();
+            Some(Box::new(move || n.set(n.get() + 1)))
+        }
+    }
+    let _watchdog = crate::watchdog::start();
+    let p =
+        program("sphere { }\nfor i in 0..3 { for j in 0..4 { sphere { } } }\nfor k in [1, 2] { }");
+    let calls = std::rc::Rc::new(std::cell::Cell::new(0));
+    let (errors, _) = evaluate_into(
+        &p,
+        Transfer::Srgb,
+        &Options::default(),
+        &mut Counting(calls.clone()),
+    );
+    assert!(errors.is_empty(), "{errors:?}");
+    assert_eq!(calls.get(), 3 * 4 + 3 + 2);
+}

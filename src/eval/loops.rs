@@ -141,6 +141,7 @@ impl Expander<'_> {
             if !made.is_empty() {
                 out(Item::Traced { trace, items: made });
             }
+            self.iterated();
             if errors.len() > before {
                 // One report for a mistake, not one per iteration.
                 return;

@@ -22,8 +22,8 @@ mod calls;
 mod entry;
 mod fast;
 pub use entry::{
-    Evaluated, Limits, Options, TopLevel, define_value, evaluate, evaluate_in_parts,
-    evaluate_in_parts_bound,
+    Evaluated, Limits, Options, Sink, TopLevel, define_value, evaluate, evaluate_in_parts,
+    evaluate_in_parts_bound, evaluate_into,
 };
 pub mod colours;
 pub mod expr;
@@ -58,6 +58,9 @@ struct Expander<'p> {
     context: RefCell<Option<TraceRef>>,
     known: RefCell<Vec<String>>,
     used_defines: RefCell<Vec<String>>,
+    /// Called after every loop iteration, at any depth (see
+    /// [`Sink::recycler`]).
+    recycle: RefCell<Option<Box<dyn FnMut()>>>,
 }
 
 /// Names as seen from one scope.
@@ -205,6 +208,14 @@ impl<'p> Expander<'p> {
             context: RefCell::new(None),
             known: RefCell::new(Vec::new()),
             used_defines: RefCell::new(Vec::new()),
+            recycle: RefCell::new(None),
+        }
+    }
+
+    /// A loop iteration has handed over its items.
+    fn iterated(&self) {
+        if let Some(f) = self.recycle.borrow_mut().as_mut() {
+            f();
         }
     }
 

@@ -15,7 +15,7 @@
 //! lines shuttle between them for every block.
 
 use super::Builder;
-use crate::eval::{Options, TopLevel};
+use crate::eval::{Options, Sink, TopLevel};
 use crate::lang::ast::Item;
 use crate::lang::diagnostics::Error;
 use std::sync::mpsc;
@@ -37,7 +37,7 @@ pub(super) fn evaluate_and_build(
 ) -> (Vec<Error>, Vec<TopLevel>) {
     let program = b.program;
     let transfer = b.scene.settings.transfer;
-    let mut known_len = b.env.known.len();
+    let known_len = b.env.known.len();
     let threaded = std::thread::scope(|s| {
         let (tx, rx) = mpsc::sync_channel::<Part>(PARTS_IN_FLIGHT);
         let (built_tx, built) = mpsc::channel::<Vec<Item>>();
@@ -53,8 +53,8 @@ pub(super) fn evaluate_and_build(
                         on_thread.env.known = known;
                     }
                     on_thread.top_level(&items);
-                    // An evaluator that has finished frees what is left
-                    // after the join; one that has panicked, nothing.
+                    // Once the evaluator has finished (or panicked), the
+                    // last few parts are freed here.
                     let _ = built_tx.send(items);
                 }
             });
@@ -63,20 +63,16 @@ pub(super) fn evaluate_and_build(
         let Ok(builder) = spawned else {
             return None;
         };
-        let out =
-            crate::eval::evaluate_in_parts_bound(program, transfer, options, |items, known| {
-                built.try_iter().for_each(drop);
-                let changed = known.len() != known_len;
-                known_len = known.len();
-                // A builder that panicked has hung up: its panic is raised
-                // by the join below.
-                let _ = tx.send((items, changed.then(|| known.to_vec())));
-            });
-        drop(tx);
+        let mut sink = ToBuilder {
+            tx,
+            built: Some(built),
+            known_len,
+        };
+        let out = crate::eval::evaluate_into(program, transfer, options, &mut sink);
+        drop(sink);
         if let Err(panic) = builder.join() {
             std::panic::resume_unwind(panic);
         }
-        built.try_iter().for_each(drop);
         Some(out)
     });
     threaded.unwrap_or_else(|| {
@@ -87,4 +83,92 @@ pub(super) fn evaluate_and_build(
             b.top_level(&items);
         })
     })
+}
+
+/// The evaluator's end of the pipeline: sends parts, and frees the parts
+/// the builder sends back one loop iteration at a time (see
+/// [`Sink::recycler`]).
+struct ToBuilder {
+    tx: mpsc::SyncSender<Part>,
+    built: Option<mpsc::Receiver<Vec<Item>>>,
+    known_len: usize,
+}
+
+impl Sink for &mut ToBuilder {
+    fn part(&mut self, items: Vec<Item>, known: &[String]) {
+        let changed = known.len() != self.known_len;
+        self.known_len = known.len();
+        // A builder that panicked has hung up: its panic is raised by the
+        // join.
+        let _ = self.tx.send((items, changed.then(|| known.to_vec())));
+    }
+
+    fn recycler(&mut self) -> Option<Box<dyn FnMut()>> {
+        let built = self.built.take()?;
+        let mut used: Vec<Item> = Vec::new();
+        Some(Box::new(move || {
+            if used.is_empty() {
+                match built.try_recv() {
+                    Ok(part) => used = part,
+                    Err(_) => return,
+                }
+            }
+            free_one(&mut used);
+        }))
+    }
+}
+
+/// Frees the last of `items`' innermost loop iterations (or, once a loop
+/// item is empty, the item itself): as much as one iteration made, in
+/// the order the allocator's per-thread cache gives it back.
+fn free_one(items: &mut Vec<Item>) {
+    if let Some(Item::Traced { items: inner, .. }) = items.last_mut()
+        && matches!(inner.last(), Some(Item::Traced { .. }))
+    {
+        return free_one(inner);
+    }
+    items.pop();
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::Transfer;
+
+    fn traced(items: &[Item]) -> usize {
+        items
+            .iter()
+            .map(|i| match i {
+                Item::Traced { items, .. } => 1 + traced(items),
+                _ => 0,
+            })
+            .sum()
+    }
+
+    /// Each call frees one loop iteration, innermost and last first (an
+    /// outer iteration once its inner ones are gone), and a statement's
+    /// item whole: as many calls as iterations free a loop's part.
+    #[test]
+    fn free_one_frees_one_innermost_iteration_at_a_time() {
+        let _watchdog = crate::watchdog::start();
+        let src = "for i in 0..3 { for j in 0..4 { sphere { } } }\ncamera { }";
+        let p =
+            crate::lang::load_text(std::path::Path::new("scene.rt"), src.into()).expect("parses");
+        let mut items = crate::eval::evaluate(&p, Transfer::Srgb, &Options::default()).items;
+        assert_eq!((items.len(), traced(&items)), (5, 15));
+        // The camera is a statement's two items (its word and its block):
+        // each freed whole, at once.
+        free_one(&mut items);
+        free_one(&mut items);
+        assert_eq!((items.len(), traced(&items)), (3, 15));
+        for left in (0..15).rev() {
+            free_one(&mut items);
+            assert_eq!(traced(&items), left);
+            if let Some(Item::Traced { items: outer, .. }) = items.last() {
+                // The last outer iteration loses its inner ones first.
+                assert!(traced(outer) < 4 || left % 5 == 0, "{left}");
+            }
+        }
+        assert!(items.is_empty());
+    }
 }
