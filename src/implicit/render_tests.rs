@@ -588,6 +588,41 @@ fn hits_on_the_window_ends_are_outside_it() {
     }
 }
 
+/// An unbounded surface is solved for the distance along the ray, so its
+/// window [t_min, t_max] is scaled by the direction's length: with
+/// directions of length 1, 4 and 1/4 (exact in binary), the unit sphere's
+/// near side 2 and 20 away is found by a window around it, not by one
+/// ending on it, and its crossings are both sides, at t = distance/|dir|.
+#[test]
+fn an_unbounded_surfaces_window_is_the_rays_whatever_its_length() {
+    let _watchdog = crate::watchdog::start();
+    let s = ImplicitSurface::new(compile("x^2 + y^2 + z^2 - 1"), Some(Aabb::INFINITE), 0);
+    for len in [1.0, 4.0, 0.25] {
+        for d in [2.0, 20.0] {
+            let r = Ray::new(DVec3::new(0.0, 0.0, d + 1.0), DVec3::new(0.0, 0.0, -len));
+            let at = |t: f64| (t * len - d).abs() < 1e-12 * d;
+            assert!(
+                s.intersect(&r, 0.0, d / len).is_none(),
+                "|dir| {len}, {d} away"
+            );
+            assert!(!s.occludes(&r, 0.0, d / len), "|dir| {len}, {d} away");
+            let h = s
+                .intersect(&r, (d - 0.5) / len, (d + 0.5) / len)
+                .unwrap_or_else(|| panic!("|dir| {len}, {d} away: no hit"));
+            assert!(at(h.t), "|dir| {len}, {d} away: t = {}", h.t);
+            let mut xs = Vec::new();
+            s.crossings(&r, &mut xs);
+            let ts: Vec<f64> = xs.iter().map(|h| h.t * len).collect();
+            assert!(
+                ts.len() == 2
+                    && (ts[0] - d).abs() < 1e-12 * d
+                    && (ts[1] - d - 2.0).abs() < 1e-12 * d,
+                "|dir| {len}, {d} away: {ts:?}"
+            );
+        }
+    }
+}
+
 /// The same solid cylinder in a box off-centre on every axis (y from −1
 /// to 0.5, the side walls at unequal distances): the faces where the box
 /// cuts it are found by the wall the point lies on, not by symmetry, and
