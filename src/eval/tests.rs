@@ -340,3 +340,78 @@ fn failed_values_are_dropped_as_statements_and_kept_after_keywords() {
     assert_eq!(errors.len(), 1, "{errors:?}");
     assert_eq!(v, ExprKind::Bound("".into(), None));
 }
+
+/// A pattern value takes no block: one written after it (`colour tiles
+/// { scale 2 }`) is reported where it stands, as a block the material
+/// does not take, not wrapped with the pattern into a `group` as an
+/// object value's block is.
+#[test]
+fn a_block_after_a_pattern_value_is_reported_where_it_stands() {
+    let _watchdog = crate::watchdog::start();
+    let src = "let tiles = checker { a white  b black }\n\
+               sphere { material { colour tiles { scale 2 } } }";
+    let p = program(src);
+    let e = evaluate(&p, Transfer::Srgb, &Options::default());
+    assert!(e.errors.is_empty(), "{:?}", e.errors);
+    assert!(
+        !format!("{:?}", e.items).contains("\"group\""),
+        "{:?}",
+        e.items
+    );
+    let errors = crate::scene::check(&p, &Options::default()).errors;
+    assert_eq!(errors.len(), 1, "{errors:?}");
+    assert!(
+        errors[0].message.contains("found a block"),
+        "{:?}",
+        errors[0]
+    );
+    let at = src.find("{ scale").unwrap();
+    assert_eq!(
+        errors[0].span,
+        Span::new(p.root, at, at + "{ scale 2 }".len())
+    );
+}
+
+/// The step budget counts the work the evaluation keeps. An expression
+/// naming something unknown here (left to the builder) is tried, and the
+/// trial undone: it costs one step as an item, as a bare name does,
+/// however long it is. A limit the trial runs into is met again at the
+/// next item, not inside the expression, which the builder still gets
+/// whole.
+#[test]
+fn an_expression_left_to_the_builder_costs_no_steps_of_its_own() {
+    let _watchdog = crate::watchdog::start();
+    let long = "sphere { radius 1 + 2 * q }\nsphere { }";
+    let bare = "sphere { radius q }\nsphere { }";
+    let run =
+        |src: &str, steps: u64| evaluate(&program(src), Transfer::Srgb, &with_limits(steps, 10));
+    let need = |src: &str| (0..100).find(|&n| run(src, n).errors.is_empty()).unwrap();
+    assert_eq!(need(long), need(bare));
+    let full = run(long, need(long));
+    for src in [long, bare] {
+        let p = program(src);
+        // One step short, the last item (the second sphere's block) is not
+        // made; two short, the second sphere itself.
+        for (short, at, len) in [
+            (1, src.rfind("{ }").unwrap(), 3),
+            (2, src.rfind("sphere").unwrap(), 6),
+        ] {
+            let e = evaluate(&p, Transfer::Srgb, &with_limits(need(src) - short, 10));
+            assert_eq!(e.errors.len(), 1, "{src}: {:?}", e.errors);
+            assert!(
+                e.errors[0].message.contains("evaluation steps"),
+                "{:?}",
+                e.errors
+            );
+            assert_eq!(
+                e.errors[0].span,
+                Span::new(p.root, at, at + len),
+                "{src}: {:?}",
+                e.errors
+            );
+            if src == long {
+                assert_eq!(e.items[..], full.items[..full.items.len() - short as usize]);
+            }
+        }
+    }
+}

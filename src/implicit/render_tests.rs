@@ -4,7 +4,7 @@ use super::scenes::{self, TorusKind};
 use super::tests::CONVENTIONS;
 use super::*;
 use crate::accel::World;
-use crate::geometry::{Ray, Transform};
+use crate::geometry::{DVec2, Ray, Transform};
 use crate::render::{RenderOptions, render};
 use crate::scene::{Camera, Projection, Scene};
 use crate::shapes::{Shape, Sphere, Torus, Transformed, testing};
@@ -588,6 +588,41 @@ fn hits_on_the_window_ends_are_outside_it() {
     }
 }
 
+/// An unbounded surface is solved for the distance along the ray, so its
+/// window [t_min, t_max] is scaled by the direction's length: with
+/// directions of length 1, 4 and 1/4 (exact in binary), the unit sphere's
+/// near side 2 and 20 away is found by a window around it, not by one
+/// ending on it, and its crossings are both sides, at t = distance/|dir|.
+#[test]
+fn an_unbounded_surfaces_window_is_the_rays_whatever_its_length() {
+    let _watchdog = crate::watchdog::start();
+    let s = ImplicitSurface::new(compile("x^2 + y^2 + z^2 - 1"), Some(Aabb::INFINITE), 0);
+    for len in [1.0, 4.0, 0.25] {
+        for d in [2.0, 20.0] {
+            let r = Ray::new(DVec3::new(0.0, 0.0, d + 1.0), DVec3::new(0.0, 0.0, -len));
+            let at = |t: f64| (t * len - d).abs() < 1e-12 * d;
+            assert!(
+                s.intersect(&r, 0.0, d / len).is_none(),
+                "|dir| {len}, {d} away"
+            );
+            assert!(!s.occludes(&r, 0.0, d / len), "|dir| {len}, {d} away");
+            let h = s
+                .intersect(&r, (d - 0.5) / len, (d + 0.5) / len)
+                .unwrap_or_else(|| panic!("|dir| {len}, {d} away: no hit"));
+            assert!(at(h.t), "|dir| {len}, {d} away: t = {}", h.t);
+            let mut xs = Vec::new();
+            s.crossings(&r, &mut xs);
+            let ts: Vec<f64> = xs.iter().map(|h| h.t * len).collect();
+            assert!(
+                ts.len() == 2
+                    && (ts[0] - d).abs() < 1e-12 * d
+                    && (ts[1] - d - 2.0).abs() < 1e-12 * d,
+                "|dir| {len}, {d} away: {ts:?}"
+            );
+        }
+    }
+}
+
 /// The same solid cylinder in a box off-centre on every axis (y from −1
 /// to 0.5, the side walls at unequal distances): the faces where the box
 /// cuts it are found by the wall the point lies on, not by symmetry, and
@@ -686,6 +721,56 @@ fn the_bound_at_a_vanished_gradient_is_capped_at_a_small_part_of_the_scale() {
                     h.p_error
                 );
             }
+        }
+    }
+}
+
+/// An unbounded surface's hits lie within their error bound of it,
+/// whatever the length of the ray's direction (a moved surface's rays
+/// are not unit): a thin torus (radii 1 and 1/16, exact in binary; it
+/// bends fast, which is what makes Newton's last step count), traced
+/// without a box, by rays aimed at points of it from 3 and from 0.01
+/// away, with directions of length 1, 1024 and 2⁻¹⁰. The box ±p_error
+/// about each crossing reaches the torus along its normal (what a
+/// secondary ray's offset reads), as `sphere_hits_are_on_the_surface_…`
+/// checks for the sphere.
+#[test]
+fn unbounded_hits_hold_the_surface_whatever_the_rays_length() {
+    let _watchdog = crate::watchdog::start();
+    let (big, small) = (1.0, 0.0625);
+    let torus = ImplicitSurface::new(
+        compile("(x^2 + y^2 + z^2 + 1 - 0.00390625)^2 - 4 * (x^2 + y^2)"),
+        Some(Aabb::INFINITE),
+        0,
+    );
+    let mut rnd = testing::numbers(41);
+    for from in [3.0, 0.01] {
+        for len in [1.0, 1024.0, 2f64.powi(-10)] {
+            let mut hits = 0;
+            for _ in 0..2000 {
+                let (a, b) = (3.2 * rnd(), 3.2 * rnd());
+                let ring = big + small * b.cos();
+                let aim = DVec3::new(ring * a.cos(), ring * a.sin(), small * b.sin());
+                let o = aim + DVec3::new(rnd(), rnd(), rnd()).normalize_or(DVec3::X) * from;
+                let r = Ray::new(o, (aim - o).normalize() * len);
+                let mut xs = Vec::new();
+                torus.crossings(&r, &mut xs);
+                for h in xs {
+                    hits += 1;
+                    // The nearest point of the torus: on the circle of
+                    // radius `small` about the nearest point of its core.
+                    let core = (DVec2::new(h.point.x, h.point.y).normalize() * big).extend(0.0);
+                    let out = h.point - core;
+                    let off = (out.length() - small).abs();
+                    let reach = out.normalize().abs().dot(h.p_error);
+                    assert!(
+                        off <= reach,
+                        "from {from}, |dir| {len}: {} off by {off:e} > {reach:e}",
+                        h.point
+                    );
+                }
+            }
+            assert!(hits > 2000, "from {from}, |dir| {len}: {hits} hits");
         }
     }
 }
