@@ -84,9 +84,9 @@ pov_cpu() {
 
 printf '%-11s %8s %11s %8s %6s %8s %8s %6s %8s %8s %6s  %s\n' \
   scene ours_s ours_spread pov_s ratio ours_cpu pov_cpu ratio ours_MiB pov_MiB ratio rays/s
-bunny_wall=""; bunny_cpu=""
+bunny_wall=""; bunny_cpu=""; many_build=""
 for s in $SCENES; do
-  walls=(); rss=(); cpus=(); rps=""
+  walls=(); rss=(); cpus=(); builds=(); rps=""
   for i in $(seq 1 "$RUNS"); do
     /usr/bin/time -f '%e %M %U %S' -o "$OUT/$s.time" "$BIN" "$ROOT/benches/scenes/$s.rt" \
       -o "$OUT/$s.png" --width "$SIZE" --height "$SIZE" --threads "$THREADS" --quiet --stats \
@@ -94,7 +94,10 @@ for s in $SCENES; do
     read -r w m u sy < "$OUT/$s.time"
     walls+=("$w"); rss+=("$m"); cpus+=("$(awk -v u="$u" -v s="$sy" 'BEGIN {print u + s}')")
     rps=$(awk '/^rays\/s/ {print $2}' "$OUT/$s.stats")
+    builds+=("$(awk '/^build / {print $2}' "$OUT/$s.stats")")
   done
+  [ "$s" = many ] && many_build="$(printf '%s\n' "${builds[@]}" | median)" \
+    && many_build_spread="$(printf '%s\n' "${builds[@]}" | spread)"
   ow=$(printf '%s\n' "${walls[@]}" | median)
   osp=$(printf '%s\n' "${walls[@]}" | spread)
   om=$(printf '%s\n' "${rss[@]}" | median)
@@ -108,6 +111,14 @@ for s in $SCENES; do
     omib = om / 1024;
     printf "%-11s %8.3f %11s %8.3f %6.3f %8.2f %8.2f %6.3f %8.1f %8.1f %6.2f  %s\n", s, ow, osp, pw, (pw > 0 ? ow / pw : 0), oc, pc, (pc > 0 ? oc / pc : 0), omib, pm, (pm > 0 ? omib / pm : 0), r }'
 done
+
+# many's parse, evaluation and build (--stats' build line) against
+# POV-Ray's parse of many.pov (the language issue's target).
+if [ -n "$many_build" ]; then
+  pp=$(awk -F'\t' 'NR==1 {for (i=1;i<=NF;i++) h[$i]=i} $1=="many" {print $h["parse_s"]}' "$PTSV")
+  awk -v b="$many_build" -v sp="$many_build_spread" -v p="$pp" 'BEGIN {
+    printf "\nmany: parse + evaluate + build %.3f s (%s), POV-Ray parse %.3f s: ratio %.3f\n", b, sp, p, (p > 0 ? b / p : 0) }'
+fi
 
 # Embree on the bunny: whole process, the same scene, size and threads.
 if [ "$EMBREE" = none ]; then
