@@ -235,6 +235,7 @@ fn apply_overrides(args: &Args, scene: &mut scene::Scene) {
     }
     if let Some(n) = args.samples {
         scene.settings.samples = n;
+        scene.settings.sample_rows = None;
     }
 }
 

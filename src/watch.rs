@@ -243,6 +243,7 @@ impl Pass {
                 width,
                 height,
                 samples: 1,
+                sample_rows: None,
                 adaptive: None,
                 ..full.clone()
             },

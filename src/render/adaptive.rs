@@ -48,11 +48,7 @@ mod tests {
     fn refine(t: f64) -> Refine {
         Refine {
             threshold: t,
-            sampler: PixelSampler {
-                kind: SamplerKind::Regular,
-                n: 4,
-                seed: 0,
-            },
+            sampler: PixelSampler::square(SamplerKind::Regular, 4, 0),
         }
     }
 

@@ -96,22 +96,26 @@ pub fn render_region(
     let integrator = Integrator::new(scene, world);
     // Each pixel averages n × n samples; the regular sampler puts them at
     // the cell centres (the 2017 rule, the same picture on every run).
+    let n = scene.settings.samples.clamp(1, crate::scene::MAX_SAMPLES);
     let sampler = PixelSampler {
         kind: scene.settings.sampler,
-        n: scene.settings.samples.clamp(1, crate::scene::MAX_SAMPLES),
+        n,
+        rows: scene
+            .settings
+            .sample_rows
+            .unwrap_or(n)
+            .clamp(1, crate::scene::MAX_SAMPLES),
         seed: scene.settings.seed,
     };
-    let refine = scene
-        .settings
-        .adaptive
-        .filter(|a| a.max_samples > sampler.n && sampler.n > 1)
-        .map(|a| adaptive::Refine {
+    // Refining takes M × M samples where the first ones (at least two)
+    // disagree: only where that is more.
+    let refine = scene.settings.adaptive.and_then(|a| {
+        let m = a.max_samples.min(crate::scene::MAX_SAMPLES);
+        (m * m > sampler.count() && sampler.count() > 1).then(|| adaptive::Refine {
             threshold: a.threshold,
-            sampler: PixelSampler {
-                n: a.max_samples.min(crate::scene::MAX_SAMPLES),
-                ..sampler
-            },
-        });
+            sampler: PixelSampler::square(sampler.kind, m, sampler.seed),
+        })
+    });
     let pixels = PixelRenderer {
         camera: &camera,
         integrator: &integrator,

@@ -98,75 +98,90 @@ fn permutation(p: &mut [u16], key: u64) {
     }
 }
 
-/// The n × n points of one pixel (or one lens) in [0, 1)².
+/// The n × m points of one pixel (or one lens) in [0, 1)²: n columns, m
+/// rows.
 #[derive(Clone, Copy, Debug)]
 pub struct PixelSampler {
     pub kind: SamplerKind,
-    /// Samples per side.
+    /// Samples per row (columns).
     pub n: u32,
+    /// Rows of samples (`n` for a square grid).
+    pub rows: u32,
     pub seed: u64,
 }
 
 impl PixelSampler {
-    pub fn count(&self) -> u32 {
-        self.n * self.n
+    /// An n × n grid.
+    pub fn square(kind: SamplerKind, n: u32, seed: u64) -> PixelSampler {
+        PixelSampler {
+            kind,
+            n,
+            rows: n,
+            seed,
+        }
     }
 
-    /// Writes the n² points for `pixel` from dimensions `dim`, `dim + 1`
+    pub fn count(&self) -> u32 {
+        self.n.clamp(1, MAX_SAMPLES) * self.rows.clamp(1, MAX_SAMPLES)
+    }
+
+    /// Writes the n × m points for `pixel` from dimensions `dim`, `dim + 1`
     /// into `out`, indexed by sample. Regular points are the cell centres
     /// in row order (the 2017 grid).
     pub fn pattern(&self, pixel: Pixel, dim: u32, out: &mut Vec<(f64, f64)>) {
         out.clear();
         let n = self.n.clamp(1, MAX_SAMPLES);
-        if n == 1 && self.kind == SamplerKind::Regular {
+        let m = self.rows.clamp(1, MAX_SAMPLES);
+        if n == 1 && m == 1 && self.kind == SamplerKind::Regular {
             // The 2017 pixel centre, without the hashing set up below:
             // every pixel of a one-sample picture comes through here.
             out.push((0.5, 0.5));
             return;
         }
-        let nf = n as f64;
+        let (nf, mf) = (n as f64, m as f64);
         let key = PixelKey::new(pixel, self.seed);
         let r = |s: u32| key.uniform_pair(s, dim);
         match self.kind {
             SamplerKind::Regular => {
-                for j in 0..n {
+                for j in 0..m {
                     for i in 0..n {
-                        out.push(((i as f64 + 0.5) / nf, (j as f64 + 0.5) / nf));
+                        out.push(((i as f64 + 0.5) / nf, (j as f64 + 0.5) / mf));
                     }
                 }
             }
-            SamplerKind::Random => out.extend((0..n * n).map(r)),
+            SamplerKind::Random => out.extend((0..n * m).map(r)),
             SamplerKind::Jittered => {
-                for j in 0..n {
+                for j in 0..m {
                     for i in 0..n {
                         let (a, b) = r(j * n + i);
-                        out.push(((i as f64 + a) / nf, (j as f64 + b) / nf));
+                        out.push(((i as f64 + a) / nf, (j as f64 + b) / mf));
                     }
                 }
             }
             SamplerKind::MultiJittered => {
-                // Cell (i, j) takes fine column σ_i(j) inside its column i
-                // and fine row τ_j(i) inside its row j: with a permutation
-                // per column and per row every fine column and row of the
-                // n² × n² grid holds exactly one point.
+                // Cell (i, j) of the n columns and m rows takes fine column
+                // σ_i(j) of the m inside its column i and fine row τ_j(i)
+                // of the n inside its row j: with a permutation per column
+                // and per row every fine column and row of the nm × nm
+                // grid holds exactly one point.
                 let key =
                     mix(self.seed ^ mix(((pixel.x as u64) << 32) | pixel.y as u64) ^ dim as u64);
-                let nu = n as usize;
+                let (nu, mu) = (n as usize, m as usize);
                 let mut order = [0u16; (MAX_SAMPLES * MAX_SAMPLES) as usize];
-                permutation(&mut order[..nu * nu], key ^ 0x5bd1_e995);
-                out.resize(nu * nu, (0.0, 0.0));
+                permutation(&mut order[..nu * mu], key ^ 0x5bd1_e995);
+                out.resize(nu * mu, (0.0, 0.0));
                 let mut taus = [[0u16; MAX_SAMPLES as usize]; MAX_SAMPLES as usize];
-                for (j, tau) in taus.iter_mut().enumerate().take(nu) {
+                for (j, tau) in taus.iter_mut().enumerate().take(mu) {
                     permutation(&mut tau[..nu], key ^ ROW_KEYS[j]);
                 }
                 let mut sigma = [0u16; MAX_SAMPLES as usize];
                 for i in 0..n {
-                    permutation(&mut sigma[..nu], key ^ COLUMN_KEYS[i as usize]);
-                    for (j, tau) in taus.iter().enumerate().take(nu) {
+                    permutation(&mut sigma[..mu], key ^ COLUMN_KEYS[i as usize]);
+                    for (j, tau) in taus.iter().enumerate().take(mu) {
                         let s = j as u32 * n + i;
                         let (a, b) = r(s);
-                        let x = (i as f64 + (sigma[j] as f64 + a) / nf) / nf;
-                        let y = (j as f64 + (tau[i as usize] as f64 + b) / nf) / nf;
+                        let x = (i as f64 + (sigma[j] as f64 + a) / mf) / nf;
+                        let y = (j as f64 + (tau[i as usize] as f64 + b) / nf) / mf;
                         // Shuffled, so that sample k's pixel and lens points
                         // are not paired by grid position.
                         out[order[s as usize] as usize] = (x, y);
@@ -262,7 +277,7 @@ mod tests {
 
     fn points(kind: SamplerKind, n: u32, seed: u64) -> Vec<(f64, f64)> {
         let mut out = Vec::new();
-        PixelSampler { kind, n, seed }.pattern(Pixel { x: 3, y: 7 }, 0, &mut out);
+        PixelSampler::square(kind, n, seed).pattern(Pixel { x: 3, y: 7 }, 0, &mut out);
         out
     }
 
@@ -321,6 +336,58 @@ mod tests {
         let all: Vec<u32> = (0..n * n).collect();
         assert_eq!(cols, all);
         assert_eq!(rows, all);
+    }
+
+    /// An n × m grid (n columns, m rows): n·m points; every sampler but
+    /// random puts one in each of its cells (sample s in column s mod n of
+    /// row s div n, the regular one at the cell's centre), and the
+    /// multi-jittered one also one in each fine column and fine row of
+    /// the nm × nm grid.
+    #[test]
+    fn a_grid_of_n_columns_and_m_rows_has_its_cells_and_fine_strata() {
+        for (n, m) in [(8, 4), (4, 8), (1, 5), (5, 1), (3, 16)] {
+            for kind in [
+                SamplerKind::Regular,
+                SamplerKind::Random,
+                SamplerKind::Jittered,
+                SamplerKind::MultiJittered,
+            ] {
+                let s = PixelSampler {
+                    kind,
+                    n,
+                    rows: m,
+                    seed: 3,
+                };
+                let mut p = Vec::new();
+                s.pattern(Pixel { x: 5, y: 2 }, 2, &mut p);
+                assert_eq!((p.len(), s.count()), ((n * m) as usize, n * m));
+                assert!(
+                    p.iter()
+                        .all(|&(x, y)| (0.0..1.0).contains(&x) && (0.0..1.0).contains(&y))
+                );
+                let cell = |&(x, y): &(f64, f64)| (x * n as f64) as u32 + n * (y * m as f64) as u32;
+                let mut cells: Vec<u32> = p.iter().map(cell).collect();
+                if kind != SamplerKind::MultiJittered && kind != SamplerKind::Random {
+                    assert_eq!(cells, (0..n * m).collect::<Vec<_>>(), "{kind:?} {n}x{m}");
+                }
+                if kind == SamplerKind::Regular {
+                    let (i, j) = ((n * m - 1) % n, (n * m - 1) / n);
+                    let c = ((i as f64 + 0.5) / n as f64, (j as f64 + 0.5) / m as f64);
+                    assert_eq!(p[(n * m - 1) as usize], c);
+                }
+                if kind == SamplerKind::MultiJittered {
+                    cells.sort();
+                    assert_eq!(cells, (0..n * m).collect::<Vec<_>>(), "{n}x{m}");
+                    let fine = (n * m) as f64;
+                    let mut cols: Vec<u32> = p.iter().map(|&(x, _)| (x * fine) as u32).collect();
+                    let mut rows: Vec<u32> = p.iter().map(|&(_, y)| (y * fine) as u32).collect();
+                    cols.sort();
+                    rows.sort();
+                    assert_eq!(cols, (0..n * m).collect::<Vec<_>>(), "{n}x{m}");
+                    assert_eq!(rows, (0..n * m).collect::<Vec<_>>(), "{n}x{m}");
+                }
+            }
+        }
     }
 
     #[test]
@@ -588,11 +655,7 @@ mod tests {
     #[test]
     fn count_is_the_square_of_the_samples_per_side() {
         for n in [1, 2, 3, 7] {
-            let s = PixelSampler {
-                kind: SamplerKind::Jittered,
-                n,
-                seed: 0,
-            };
+            let s = PixelSampler::square(SamplerKind::Jittered, n, 0);
             assert_eq!(s.count(), n * n);
             let mut out = Vec::new();
             s.pattern(Pixel { x: 0, y: 0 }, 0, &mut out);
@@ -625,12 +688,7 @@ mod tests {
         let mut all = Vec::new();
         for x in 0..40 {
             let mut out = Vec::new();
-            PixelSampler {
-                kind: SamplerKind::Random,
-                n: 8,
-                seed: 5,
-            }
-            .pattern(Pixel { x, y: 1 }, 0, &mut out);
+            PixelSampler::square(SamplerKind::Random, 8, 5).pattern(Pixel { x, y: 1 }, 0, &mut out);
             assert_eq!(out.len(), 64);
             all.extend(out);
         }
@@ -646,12 +704,11 @@ mod tests {
         let mut offsets = Vec::new();
         for x in 0..200 {
             let mut out = Vec::new();
-            PixelSampler {
-                kind: SamplerKind::Jittered,
-                n,
-                seed: 2,
-            }
-            .pattern(Pixel { x, y: 3 }, 2, &mut out);
+            PixelSampler::square(SamplerKind::Jittered, n, 2).pattern(
+                Pixel { x, y: 3 },
+                2,
+                &mut out,
+            );
             for (s, &(px, py)) in out.iter().enumerate() {
                 let (i, j) = (s as u32 % n, s as u32 / n);
                 let (fx, fy) = (px * n as f64 - i as f64, py * n as f64 - j as f64);
@@ -678,12 +735,11 @@ mod tests {
         let n = 4;
         let pattern = |x: u32, dim: u32, seed: u64| {
             let mut out = Vec::new();
-            PixelSampler {
-                kind: SamplerKind::MultiJittered,
-                n,
-                seed,
-            }
-            .pattern(Pixel { x, y: 8 }, dim, &mut out);
+            PixelSampler::square(SamplerKind::MultiJittered, n, seed).pattern(
+                Pixel { x, y: 8 },
+                dim,
+                &mut out,
+            );
             out
         };
         let mut all = Vec::new();
@@ -712,12 +768,11 @@ mod tests {
         // Every bit of the seed, the pixel and the dimension counts.
         let at = |x: u32, y: u32, dim: u32, seed: u64| {
             let mut out = Vec::new();
-            PixelSampler {
-                kind: SamplerKind::MultiJittered,
-                n,
-                seed,
-            }
-            .pattern(Pixel { x, y }, dim, &mut out);
+            PixelSampler::square(SamplerKind::MultiJittered, n, seed).pattern(
+                Pixel { x, y },
+                dim,
+                &mut out,
+            );
             cells(out)
         };
         let (x, y, dim, seed) = (0x0123_4567, 0x0765_4321, 0x00ab_cdef, 0x0f1e_2d3c_4b5a_6978);
@@ -751,12 +806,11 @@ mod tests {
         let mut orders = std::collections::HashSet::new();
         for x in 0..3000 {
             let mut out = Vec::new();
-            PixelSampler {
-                kind: SamplerKind::MultiJittered,
-                n,
-                seed: 0,
-            }
-            .pattern(Pixel { x, y: x / 7 }, 0, &mut out);
+            PixelSampler::square(SamplerKind::MultiJittered, n, 0).pattern(
+                Pixel { x, y: x / 7 },
+                0,
+                &mut out,
+            );
             let cells: Vec<u32> = out
                 .iter()
                 .map(|&(x, y)| (y * n as f64) as u32 * n + (x * n as f64) as u32)

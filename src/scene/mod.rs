@@ -35,9 +35,12 @@ pub struct RenderSettings {
     pub bailout: f64,
     pub background: Colour,
     pub transfer: Transfer,
-    /// Antialiasing: each pixel averages `samples × samples` rays on a
-    /// regular grid (1 = one ray through the pixel's centre).
+    /// Antialiasing: each pixel averages `samples × samples` rays (1 = one
+    /// ray through the pixel's centre), or `samples × sample_rows`.
     pub samples: u32,
+    /// The rows of a grid that is not square (`samples <8, 4>`: 32 rays, as
+    /// POV-Ray's `blur_samples 32`); `None` is `samples` rows.
+    pub sample_rows: Option<u32>,
     /// Where in the pixel (and on the lens) the samples go.
     pub sampler: SamplerKind,
     /// Changes every random number of the picture (and nothing else).
@@ -105,6 +108,7 @@ impl Default for RenderSettings {
             background: Colour::ZERO,
             transfer: Transfer::Srgb,
             samples: 1,
+            sample_rows: None,
             sampler: SamplerKind::Regular,
             seed: 0,
             adaptive: None,

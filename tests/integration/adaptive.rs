@@ -288,3 +288,51 @@ rectangle {{ bottom_left <{lo}, {lo}, 0>  top_left <{lo}, {hi}, 0>  bottom_right
     }
     assert!(!none.exists());
 }
+
+/// `samples <columns, rows>`: a grid of their product (POV-Ray's
+/// `blur_samples 32` is `<8, 4>`), a square one the same picture as
+/// `samples n`, refined only where `max_samples`² is more; `--samples`
+/// replaces the whole grid; bad grids are refused where they stand.
+#[test]
+fn a_grid_of_columns_and_rows_casts_their_product() {
+    let _watchdog = crate::watchdog::start();
+    let base = "sampler multijittered  seed 3";
+    let pixels = 40 * 30;
+    let (f84, s84) = render_stats(&disc_scene(&format!("{base}  samples <8, 4>")), None, 2);
+    assert_eq!(s84.rays.primary, 32 * pixels);
+    let (f33, s33) = render_stats(&disc_scene(&format!("{base}  samples <3, 3>")), None, 2);
+    let (f3, _) = render_stats(&disc_scene(&format!("{base}  samples 3")), None, 2);
+    assert_eq!(
+        (f33.pixels == f3.pixels, s33.rays.primary),
+        (true, 9 * pixels)
+    );
+    // 32 samples come nearer 6 × 6 than 2 × 2 do.
+    let (f6, _) = render_stats(&disc_scene(&format!("{base}  samples 6")), None, 2);
+    let (f2, _) = render_stats(&disc_scene(&format!("{base}  samples 2")), None, 2);
+    let (near, far) = (max_difference_sum(&f84, &f6), max_difference_sum(&f2, &f6));
+    assert!(near < 0.5 * far, "{near} vs {far}");
+    let adaptive = |max: u32| {
+        format!("{base}  samples <8, 4>  adaptive {{ threshold 0.05  max_samples {max} }}")
+    };
+    let (_, s) = render_stats(&disc_scene(&adaptive(6)), None, 1);
+    assert!(s.rays.refined > 0);
+    assert_eq!(s.rays.primary, 32 * pixels + 36 * s.rays.refined);
+    // 5 × 5 is fewer than the 32 already taken.
+    let e = build_error(&disc_scene(&adaptive(5)));
+    assert!(
+        e.contains("nothing to do") && e.contains("32 samples of `<8, 4>`"),
+        "{e}"
+    );
+    let (dir, path) = scene_file(&disc_scene(&format!("{base}  samples <8, 4>")));
+    let o = render_to(
+        &path,
+        &dir.path().join("o.png"),
+        &["--samples", "2", "--stats"],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).contains("(4.00 samples each"), "{}", stderr(&o));
+    for bad in ["<0, 4>", "<8, 4.5>", "<8, 17>", "<1, 2, 3>", "rgb(1, 1, 1)"] {
+        let e = build_error(&disc_scene(&format!("{base}  samples {bad}")));
+        assert!(e.contains("whole number") && e.contains("1 to 16"), "{bad}: {e}");
+    }
+}

@@ -42,6 +42,7 @@ fn render_as(path: &Path, text: String) -> Option<Film> {
     scene.settings.width = 24;
     scene.settings.height = 18;
     scene.settings.samples = 1;
+    scene.settings.sample_rows = None;
     scene.settings.adaptive = None;
     let world = raytrace::accel::World::build(std::mem::take(&mut scene.objects));
     let opts = RenderOptions {

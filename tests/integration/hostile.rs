@@ -29,6 +29,7 @@ fn outcome_at(dir: &Path, src: &str) -> Result<raytrace::render::Film, String> {
         scene.settings.width = 8;
         scene.settings.height = 6;
         scene.settings.samples = 1;
+        scene.settings.sample_rows = None;
         let world = raytrace::accel::World::build(std::mem::take(&mut scene.objects));
         let opts = raytrace::render::RenderOptions {
             progress: None,

@@ -153,7 +153,11 @@ pub const RENDER: Schema = Schema {
             "the smallest share of the pixel a ray is traced for, 0 to below 1",
         ),
         spec("background", 1, "a colour"),
-        spec("samples", 1, "a whole number of samples per pixel side"),
+        spec(
+            "samples",
+            1,
+            "a whole number of samples per pixel side, or `<columns, rows>`",
+        ),
         spec("gamma", 1, "`srgb`, `linear` or a number"),
         spec(
             "sampler",

@@ -4,6 +4,33 @@
 use super::*;
 
 impl Builder<'_> {
+    /// `samples N` (an N × N grid) or `samples <columns, rows>`; the rows
+    /// are `None` where they equal the columns.
+    fn sample_grid(&mut self, item: &Item) -> Option<(u32, Option<u32>)> {
+        const MAX: u32 = crate::scene::MAX_SAMPLES;
+        let what = format!("a whole number from 1 to {MAX}, or `<columns, rows>` of them");
+        match self.value(item, &what)? {
+            (Value::Number(_), _) => self.integer(item, 1, MAX).map(|n| (n, None)),
+            (Value::Vector(v), s) if v.len() == 2 => {
+                let whole = |c: f64| c.fract() == 0.0 && (1.0..=MAX as f64).contains(&c);
+                if whole(v[0]) && whole(v[1]) {
+                    let (n, rows) = (v[0] as u32, v[1] as u32);
+                    return Some((n, (rows != n).then_some(rows)));
+                }
+                self.err(
+                    Error::new(s, format!("a sample grid of <{}, {}>", v[0], v[1])).label(format!(
+                        "columns and rows are whole numbers from 1 to {MAX}"
+                    )),
+                );
+                None
+            }
+            (other, s) => {
+                self.wrong_kind(s, &what, &other, None);
+                None
+            }
+        }
+    }
+
     pub(super) fn camera(&mut self, kw: &Spanned<&str>, block: &Block) {
         if !self.once(kw, "camera") {
             return;
@@ -178,9 +205,10 @@ impl Builder<'_> {
             self.background_given = true;
         }
         if let Some(q) = p.take("samples")
-            && let Some(n) = self.integer(&q.values[0], 1, crate::scene::MAX_SAMPLES)
+            && let Some((n, rows)) = self.sample_grid(&q.values[0])
         {
             self.scene.settings.samples = n;
+            self.scene.settings.sample_rows = rows;
         }
         if let Some(q) = p.take("gamma") {
             // Already applied by `find_transfer`; checked here for mistakes.
@@ -294,16 +322,27 @@ impl Builder<'_> {
         };
         self.finish("adaptive", p);
         let (threshold, max_samples) = (threshold?, max_samples?);
-        if n < 2 || max_samples <= n {
-            let why = if n < 2 {
+        let rows = self.scene.settings.sample_rows.unwrap_or(n);
+        if n * rows < 2 || max_samples * max_samples <= n * rows {
+            let why = if n * rows < 2 {
                 "a pixel's samples are compared: give `samples 2` or more before `adaptive`"
                     .to_string()
-            } else {
+            } else if rows == n {
                 format!("`max_samples` must exceed `samples` ({n}) to add any")
+            } else {
+                format!(
+                    "`max_samples` × `max_samples` must exceed the {} samples of `<{n}, {rows}>` to add any",
+                    n * rows
+                )
+            };
+            let grid = if rows == n {
+                format!("{n}")
+            } else {
+                format!("<{n}, {rows}>")
             };
             self.err(
                 Error::new(at, "adaptive sampling has nothing to do here")
-                    .label(format!("with `samples {n}`"))
+                    .label(format!("with `samples {grid}`"))
                     .help(why),
             );
             return None;
