@@ -651,3 +651,60 @@ fn about_turns_z_onto_w_and_keeps_lengths_and_angles() {
         assert!((about(w, c) - ta.cross(tb)).length() < 1e-12);
     }
 }
+
+/// Each row of a multi-jittered grid places its points in its fine rows
+/// by its own arrangement, and each column in its fine columns: were they
+/// all one (the same key for every row or column), the points would line
+/// up from cell to cell.
+#[test]
+fn multijittered_rows_and_columns_each_have_their_own_arrangement() {
+    let (n, m) = (8u32, 6u32);
+    for x in 0..4 {
+        let mut p = Vec::new();
+        PixelSampler {
+            kind: SamplerKind::MultiJittered,
+            n,
+            rows: m,
+            seed: 1,
+        }
+        .pattern(Pixel { x, y: 9 }, 0, &mut p);
+        let fine = (n * m) as f64;
+        let mut by_row = vec![vec![0; n as usize]; m as usize];
+        let mut by_column = vec![vec![0; m as usize]; n as usize];
+        for &(px, py) in &p {
+            let (i, j) = ((px * n as f64) as usize, (py * m as f64) as usize);
+            by_row[j][i] = (py * fine) as u32 - j as u32 * n;
+            by_column[i][j] = (px * fine) as u32 - i as u32 * m;
+        }
+        assert!(by_row.iter().any(|r| *r != by_row[0]), "{by_row:?}");
+        assert!(
+            by_column.iter().any(|c| *c != by_column[0]),
+            "{by_column:?}"
+        );
+    }
+}
+
+/// One sample a pixel: the regular sampler's is the centre (the 2017
+/// rule), every other sampler's a point of its own in each pixel.
+#[test]
+fn a_single_sample_is_the_centre_only_for_the_regular_sampler() {
+    for kind in [
+        SamplerKind::Random,
+        SamplerKind::Jittered,
+        SamplerKind::MultiJittered,
+    ] {
+        let mut seen = Vec::new();
+        for x in 0..8 {
+            let mut p = Vec::new();
+            PixelSampler::square(kind, 1, 4).pattern(Pixel { x, y: 0 }, 0, &mut p);
+            assert_eq!(p.len(), 1);
+            assert_ne!(p[0], (0.5, 0.5), "{kind:?}");
+            seen.push(p[0]);
+        }
+        seen.dedup();
+        assert_eq!(seen.len(), 8, "{kind:?}");
+    }
+    let mut p = Vec::new();
+    PixelSampler::square(SamplerKind::Regular, 1, 4).pattern(Pixel { x: 3, y: 3 }, 0, &mut p);
+    assert_eq!(p, [(0.5, 0.5)]);
+}
