@@ -774,3 +774,77 @@ fn unbounded_hits_hold_the_surface_whatever_the_rays_length() {
         }
     }
 }
+
+/// Seen from far away (10³ to 10⁵ units), an unbounded surface's hits
+/// still hold it within their bound, and the rays aimed at it find it:
+/// the polynomial along a ray that far expanded about the ray's origin
+/// kept too few digits for a tube 0.0625 thick.
+#[test]
+fn unbounded_hits_from_far_away_hold_the_surface() {
+    let _watchdog = crate::watchdog::start();
+    let (big, small) = (1.0, 0.0625);
+    let torus = ImplicitSurface::new(
+        compile("(x^2 + y^2 + z^2 + 1 - 0.00390625)^2 - 4 * (x^2 + y^2)"),
+        Some(Aabb::INFINITE),
+        0,
+    );
+    let mut rnd = testing::numbers(43);
+    for from in [1e3, 1e4, 1e5] {
+        for len in [1.0, 1024.0] {
+            let (mut hits, mut aimed) = (0, 0);
+            for _ in 0..500 {
+                let (a, b) = (std::f64::consts::TAU * rnd(), std::f64::consts::TAU * rnd());
+                let ring = big + small * b.cos();
+                let aim = DVec3::new(ring * a.cos(), ring * a.sin(), small * b.sin());
+                let o = aim
+                    + DVec3::new(rnd() - 0.5, rnd() - 0.5, rnd() - 0.5).normalize_or(DVec3::X)
+                        * from;
+                let r = Ray::new(o, (aim - o).normalize() * len);
+                let mut xs = Vec::new();
+                torus.crossings(&r, &mut xs);
+                aimed += 1;
+                hits += usize::from(!xs.is_empty());
+                for h in xs {
+                    let core = (DVec2::new(h.point.x, h.point.y).normalize() * big).extend(0.0);
+                    let out = h.point - core;
+                    let off = (out.length() - small).abs();
+                    let reach = out.normalize().abs().dot(h.p_error);
+                    assert!(
+                        off <= reach,
+                        "from {from}, |dir| {len}: {} off by {off:e} > {reach:e}",
+                        h.point
+                    );
+                }
+            }
+            // A ray aimed at a point of the surface meets it (bar a few
+            // that only graze it, within rounding of the aim).
+            assert!(
+                hits * 100 >= aimed * 98,
+                "from {from}, |dir| {len}: {hits} of {aimed}"
+            );
+        }
+    }
+}
+
+/// A ray that leaves the origin's side (the point of its line nearest the
+/// origin lies behind it) with a short reach still finds what lies within
+/// that reach: from the torus's core circle outwards, its tube's wall at
+/// 0.0625, before a light at 0.5, and nothing within 0.05.
+#[test]
+fn an_unbounded_surface_is_found_by_a_short_ray_leaving_the_origins_side() {
+    let _watchdog = crate::watchdog::start();
+    let torus = ImplicitSurface::new(
+        compile("(x^2 + y^2 + z^2 + 1 - 0.00390625)^2 - 4 * (x^2 + y^2)"),
+        Some(Aabb::INFINITE),
+        0,
+    );
+    for len in [1.0, 8.0] {
+        let r = Ray::new(DVec3::new(1.0, 0.0, 0.0), DVec3::new(len, 0.0, 0.0));
+        let h = torus
+            .intersect(&r, 0.0, 0.5 / len)
+            .expect("the tube's wall");
+        assert!((h.t * len - 0.0625).abs() < 1e-12, "{}", h.t * len);
+        assert!(torus.occludes(&r, 0.0, 0.5 / len));
+        assert!(!torus.occludes(&r, 0.0, 0.05 / len));
+    }
+}
