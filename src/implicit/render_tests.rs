@@ -7,7 +7,7 @@ use crate::accel::World;
 use crate::geometry::{DVec2, Ray, Transform};
 use crate::render::{RenderOptions, render};
 use crate::scene::{Camera, Projection, Scene};
-use crate::shapes::{Shape, Sphere, Torus, Transformed, testing};
+use crate::shapes::{Hit, Shape, Sphere, Torus, Transformed, testing};
 
 fn compile(s: &str) -> Equation {
     Equation::compile(s, &|_| None).unwrap_or_else(|e| panic!("{s}: {e:?}"))
@@ -725,6 +725,40 @@ fn the_bound_at_a_vanished_gradient_is_capped_at_a_small_part_of_the_scale() {
     }
 }
 
+/// The thin torus of the unbounded tests: core radius 1, tube 1/16 (both
+/// exact in binary), about the z axis, traced without a box.
+const THIN: (f64, f64) = (1.0, 0.0625);
+
+fn thin_torus() -> ImplicitSurface {
+    ImplicitSurface::new(
+        compile("(x^2 + y^2 + z^2 + 1 - 0.00390625)^2 - 4 * (x^2 + y^2)"),
+        Some(Aabb::INFINITE),
+        0,
+    )
+}
+
+/// The thin torus's point at angle `a` about z and `b` about its core.
+fn on_thin_torus(a: f64, b: f64) -> DVec3 {
+    let ring = THIN.0 + THIN.1 * b.cos();
+    DVec3::new(ring * a.cos(), ring * a.sin(), THIN.1 * b.sin())
+}
+
+/// The box ±p_error about `h`'s point reaches the thin torus along its
+/// normal: the nearest point of the torus is on the circle of radius
+/// `THIN.1` about the nearest point of its core. `what` names the ray.
+fn assert_holds_thin_torus(h: &Hit, what: impl Fn() -> String) {
+    let core = (DVec2::new(h.point.x, h.point.y).normalize() * THIN.0).extend(0.0);
+    let out = h.point - core;
+    let off = (out.length() - THIN.1).abs();
+    let reach = out.normalize().abs().dot(h.p_error);
+    assert!(
+        off <= reach,
+        "{}: {} off by {off:e} > {reach:e}",
+        what(),
+        h.point
+    );
+}
+
 /// An unbounded surface's hits lie within their error bound of it,
 /// whatever the length of the ray's direction (a moved surface's rays
 /// are not unit): a thin torus (radii 1 and 1/16, exact in binary; it
@@ -737,37 +771,20 @@ fn the_bound_at_a_vanished_gradient_is_capped_at_a_small_part_of_the_scale() {
 #[test]
 fn unbounded_hits_hold_the_surface_whatever_the_rays_length() {
     let _watchdog = crate::watchdog::start();
-    let (big, small) = (1.0, 0.0625);
-    let torus = ImplicitSurface::new(
-        compile("(x^2 + y^2 + z^2 + 1 - 0.00390625)^2 - 4 * (x^2 + y^2)"),
-        Some(Aabb::INFINITE),
-        0,
-    );
+    let torus = thin_torus();
     let mut rnd = testing::numbers(41);
     for from in [3.0, 0.01] {
         for len in [1.0, 1024.0, 2f64.powi(-10)] {
             let mut hits = 0;
             for _ in 0..2000 {
-                let (a, b) = (3.2 * rnd(), 3.2 * rnd());
-                let ring = big + small * b.cos();
-                let aim = DVec3::new(ring * a.cos(), ring * a.sin(), small * b.sin());
+                let aim = on_thin_torus(3.2 * rnd(), 3.2 * rnd());
                 let o = aim + DVec3::new(rnd(), rnd(), rnd()).normalize_or(DVec3::X) * from;
                 let r = Ray::new(o, (aim - o).normalize() * len);
                 let mut xs = Vec::new();
                 torus.crossings(&r, &mut xs);
                 for h in xs {
                     hits += 1;
-                    // The nearest point of the torus: on the circle of
-                    // radius `small` about the nearest point of its core.
-                    let core = (DVec2::new(h.point.x, h.point.y).normalize() * big).extend(0.0);
-                    let out = h.point - core;
-                    let off = (out.length() - small).abs();
-                    let reach = out.normalize().abs().dot(h.p_error);
-                    assert!(
-                        off <= reach,
-                        "from {from}, |dir| {len}: {} off by {off:e} > {reach:e}",
-                        h.point
-                    );
+                    assert_holds_thin_torus(&h, || format!("from {from}, |dir| {len}"));
                 }
             }
             assert!(hits > 2000, "from {from}, |dir| {len}: {hits} hits");
@@ -782,20 +799,14 @@ fn unbounded_hits_hold_the_surface_whatever_the_rays_length() {
 #[test]
 fn unbounded_hits_from_far_away_hold_the_surface() {
     let _watchdog = crate::watchdog::start();
-    let (big, small) = (1.0, 0.0625);
-    let torus = ImplicitSurface::new(
-        compile("(x^2 + y^2 + z^2 + 1 - 0.00390625)^2 - 4 * (x^2 + y^2)"),
-        Some(Aabb::INFINITE),
-        0,
-    );
+    let torus = thin_torus();
     let mut rnd = testing::numbers(43);
     for from in [1e3, 1e4, 1e5] {
         for len in [1.0, 1024.0] {
             let (mut hits, mut aimed) = (0, 0);
             for _ in 0..500 {
-                let (a, b) = (std::f64::consts::TAU * rnd(), std::f64::consts::TAU * rnd());
-                let ring = big + small * b.cos();
-                let aim = DVec3::new(ring * a.cos(), ring * a.sin(), small * b.sin());
+                let aim =
+                    on_thin_torus(std::f64::consts::TAU * rnd(), std::f64::consts::TAU * rnd());
                 let o = aim
                     + DVec3::new(rnd() - 0.5, rnd() - 0.5, rnd() - 0.5).normalize_or(DVec3::X)
                         * from;
@@ -805,15 +816,7 @@ fn unbounded_hits_from_far_away_hold_the_surface() {
                 aimed += 1;
                 hits += usize::from(!xs.is_empty());
                 for h in xs {
-                    let core = (DVec2::new(h.point.x, h.point.y).normalize() * big).extend(0.0);
-                    let out = h.point - core;
-                    let off = (out.length() - small).abs();
-                    let reach = out.normalize().abs().dot(h.p_error);
-                    assert!(
-                        off <= reach,
-                        "from {from}, |dir| {len}: {} off by {off:e} > {reach:e}",
-                        h.point
-                    );
+                    assert_holds_thin_torus(&h, || format!("from {from}, |dir| {len}"));
                 }
             }
             // A ray aimed at a point of the surface meets it (bar a few
@@ -833,11 +836,7 @@ fn unbounded_hits_from_far_away_hold_the_surface() {
 #[test]
 fn an_unbounded_surface_is_found_by_a_short_ray_leaving_the_origins_side() {
     let _watchdog = crate::watchdog::start();
-    let torus = ImplicitSurface::new(
-        compile("(x^2 + y^2 + z^2 + 1 - 0.00390625)^2 - 4 * (x^2 + y^2)"),
-        Some(Aabb::INFINITE),
-        0,
-    );
+    let torus = thin_torus();
     for len in [1.0, 8.0] {
         let r = Ray::new(DVec3::new(1.0, 0.0, 0.0), DVec3::new(len, 0.0, 0.0));
         let h = torus
