@@ -94,17 +94,13 @@ pub fn render_region(
     }
     let camera = CameraRays::new(&scene.camera, w, h)?;
     let integrator = Integrator::new(scene, world);
-    // Each pixel averages n × n samples; the regular sampler puts them at
+    // Each pixel averages n × m samples; the regular sampler puts them at
     // the cell centres (the 2017 rule, the same picture on every run).
-    let n = scene.settings.samples.clamp(1, crate::scene::MAX_SAMPLES);
+    let (n, rows) = scene.settings.grid();
     let sampler = PixelSampler {
         kind: scene.settings.sampler,
-        n,
-        rows: scene
-            .settings
-            .sample_rows
-            .unwrap_or(n)
-            .clamp(1, crate::scene::MAX_SAMPLES),
+        n: n.clamp(1, crate::scene::MAX_SAMPLES),
+        rows: rows.clamp(1, crate::scene::MAX_SAMPLES),
         seed: scene.settings.seed,
     };
     // Refining takes M × M samples where the first ones (at least two)

@@ -98,6 +98,13 @@ pub enum SamplerKind {
 /// Most samples per pixel side (`samples 16` is 256 rays a pixel).
 pub const MAX_SAMPLES: u32 = 16;
 
+impl RenderSettings {
+    /// The sample grid's columns and rows.
+    pub fn grid(&self) -> (u32, u32) {
+        (self.samples, self.sample_rows.unwrap_or(self.samples))
+    }
+}
+
 impl Default for RenderSettings {
     fn default() -> Self {
         RenderSettings {

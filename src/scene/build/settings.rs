@@ -322,8 +322,13 @@ impl Builder<'_> {
         };
         self.finish("adaptive", p);
         let (threshold, max_samples) = (threshold?, max_samples?);
-        let rows = self.scene.settings.sample_rows.unwrap_or(n);
+        let rows = self.scene.settings.grid().1;
         if n * rows < 2 || max_samples * max_samples <= n * rows {
+            let grid = if rows == n {
+                format!("{n}")
+            } else {
+                format!("<{n}, {rows}>")
+            };
             let why = if n * rows < 2 {
                 "a pixel's samples are compared: give `samples 2` or more before `adaptive`"
                     .to_string()
@@ -331,14 +336,9 @@ impl Builder<'_> {
                 format!("`max_samples` must exceed `samples` ({n}) to add any")
             } else {
                 format!(
-                    "`max_samples` × `max_samples` must exceed the {} samples of `<{n}, {rows}>` to add any",
+                    "`max_samples` × `max_samples` must exceed the {} samples of `{grid}` to add any",
                     n * rows
                 )
-            };
-            let grid = if rows == n {
-                format!("{n}")
-            } else {
-                format!("<{n}, {rows}>")
             };
             self.err(
                 Error::new(at, "adaptive sampling has nothing to do here")
