@@ -111,7 +111,8 @@ impl<'a> Integrator<'a> {
     /// [`Integrator::trace`] and how far the ray went before its hit (∞ on
     /// a miss), for Beer absorption along it; the caller counts the ray.
     fn trace_far(&self, ray: &Ray, depth: u32, path: &mut Path) -> (Colour, f64) {
-        let Some((mut hit, object)) = self.world.nearest(ray, 0.0, f64::INFINITY) else {
+        let mut hit = crate::shapes::Hit::default();
+        let Some(object) = self.world.nearest_into(ray, 0.0, f64::INFINITY, &mut hit) else {
             return (self.miss(ray.dir), f64::INFINITY);
         };
         // Material patterns choose here; (u, v) is computed if read.
@@ -383,10 +384,11 @@ impl<'a> Integrator<'a> {
         let mut t = Colour::ONE;
         let mut ray = *ray;
         let mut left = dist;
+        let mut hit = crate::shapes::Hit::default();
         for _ in 0..MAX_SHADOW_SURFACES {
-            let Some(mut hit) = self.world.intersect(&ray, 0.0, left) else {
+            if self.world.nearest_into(&ray, 0.0, left, &mut hit).is_none() {
                 return t;
-            };
+            }
             // (u, v) as the shape gave it: shadow rays do not ask for more.
             let m = pattern::resolve(&self.scene.materials, &mut hit, |h| h.uv);
             let Some(glass) = &m.refract else {

@@ -617,6 +617,27 @@ fn the_concentric_map_sends_edges_and_corners_where_shirley_chiu_say() {
 }
 
 #[test]
+fn the_octant_sine_and_cosine_agree_with_libm_to_an_ulp() {
+    // Across [−π/4, π/4] and at its ends: within one ulp of the larger of
+    // the value and 2⁻⁵³ (sin's tiny values are relative to themselves).
+    let ulp = |v: f64| (v.abs().max(1.0 / (1u64 << 53) as f64)) * f64::EPSILON;
+    let q = std::f64::consts::FRAC_PI_4;
+    let mut worst = 0.0f64;
+    for k in 0..=20_000 {
+        let t = -q + 2.0 * q * k as f64 / 20_000.0;
+        let (s, c) = sin_cos_octant(t);
+        worst = worst.max((s - t.sin()).abs() / ulp(t.sin()));
+        worst = worst.max((c - t.cos()).abs() / ulp(t.cos()));
+    }
+    for t in [q, -q, 1e-300, -1e-8, 0.0] {
+        let (s, c) = sin_cos_octant(t);
+        worst = worst.max((s - t.sin()).abs() / ulp(t.sin()));
+        worst = worst.max((c - t.cos()).abs() / ulp(t.cos()));
+    }
+    assert!(worst <= 1.0, "{worst} ulp");
+}
+
+#[test]
 fn a_lobe_direction_has_the_asked_angles() {
     // φ = 2πa, cos θ = (1 − b)^(1/(e+1)).
     for (a, b, e) in [(0.1, 0.3, 1.0), (0.6, 0.8, 5.0), (0.85, 0.05, 0.5)] {
