@@ -168,6 +168,8 @@ pub fn render_region(
 struct Scratch {
     spots: Vec<(f64, f64)>,
     lens: Vec<(f64, f64)>,
+    /// Each sample's camera ray.
+    rays: Vec<crate::geometry::Ray>,
     /// Each sample's colour, for the adaptive test.
     colours: Vec<Colour>,
 }
@@ -194,21 +196,29 @@ impl PixelRenderer<'_> {
             sampler.pattern(pixel, LENS_DIM, &mut scratch.lens);
         }
         scratch.colours.clear();
+        // Every camera ray first, then every path: the rays are independent
+        // of each other, so their square roots and divisions overlap in the
+        // pipeline instead of each waiting at the head of its own path.
+        scratch.rays.clear();
+        scratch
+            .rays
+            .extend(scratch.spots.iter().enumerate().map(|(s, &(dx, dy))| {
+                let q = scratch.lens.get(s).copied().unwrap_or((0.5, 0.5));
+                self.camera.ray(pixel.x as f64 + dx, pixel.y as f64 + dy, q)
+            }));
         let key = PixelKey::new(pixel, sampler.seed);
         let mut sum = Colour::ZERO;
-        for (s, &(dx, dy)) in scratch.spots.iter().enumerate() {
-            let q = scratch.lens.get(s).copied().unwrap_or((0.5, 0.5));
-            let ray = self.camera.ray(pixel.x as f64 + dx, pixel.y as f64 + dy, q);
+        for (s, ray) in scratch.rays.iter().enumerate() {
             let mut path = Path {
                 stream: SampleStream::new(key, s as u32),
                 counts,
                 weight: 1.0,
             };
-            let c = self.integrator.trace(&ray, 0, &mut path);
+            let c = self.integrator.trace(ray, 0, &mut path);
             scratch.colours.push(c);
             sum += c;
         }
-        if scratch.spots.len() == 1 {
+        if scratch.rays.len() == 1 {
             sum
         } else {
             sum * (1.0 / sampler.count() as f64)
