@@ -58,22 +58,26 @@ impl Binary {
     }
 }
 
-/// A box in `f32`, as the nodes store it.
+/// A box in `f32`, as the nodes store it. Four lanes, the fourth unused
+/// (0 in every box): `grow` is then one packed min and one packed max, and
+/// it runs for every item on every level of the build.
 #[derive(Clone, Copy, Debug)]
 struct Box32 {
-    lo: [f32; 3],
-    hi: [f32; 3],
+    lo: [f32; 4],
+    hi: [f32; 4],
 }
 
 impl Box32 {
     const EMPTY: Box32 = Box32 {
-        lo: [f32::INFINITY; 3],
-        hi: [f32::NEG_INFINITY; 3],
+        lo: [f32::INFINITY, f32::INFINITY, f32::INFINITY, 0.0],
+        hi: [f32::NEG_INFINITY, f32::NEG_INFINITY, f32::NEG_INFINITY, 0.0],
     };
 
     #[inline(always)]
     fn grow(&mut self, o: &Box32) {
-        for a in 0..3 {
+        // `a < b ? a : b`, not `f32::min`: what `minps` computes, and no
+        // NaN handling to pay for (a box's bounds are never NaN).
+        for a in 0..4 {
             self.lo[a] = if o.lo[a] < self.lo[a] {
                 o.lo[a]
             } else {
@@ -95,9 +99,11 @@ impl Box32 {
 
     /// The same box in `f64` (exactly: every `f32` is an `f64`).
     fn aabb(&self) -> Aabb {
+        let [x, y, z, _] = self.lo.map(f64::from);
+        let [u, v, w, _] = self.hi.map(f64::from);
         Aabb {
-            min: DVec3::from_array(self.lo.map(f64::from)),
-            max: DVec3::from_array(self.hi.map(f64::from)),
+            min: DVec3::new(x, y, z),
+            max: DVec3::new(u, v, w),
         }
     }
 }
@@ -113,11 +119,11 @@ struct Item {
 /// Builds the binary tree over the non-empty boxes; `None` when there are
 /// none.
 pub(super) fn binary(boxes: &[Aabb], params: BvhParams) -> Option<Binary> {
-    let items = items_of(boxes);
+    let mut items = items_of(boxes);
     if items.is_empty() {
         return None;
     }
-    Some(node(items, params, 0))
+    Some(node(&mut items, params, 0))
 }
 
 /// The non-empty boxes as items: their indices, their boxes rounded
@@ -128,9 +134,11 @@ fn items_of(boxes: &[Aabb]) -> Vec<Item> {
         .enumerate()
         .filter(|(_, b)| !b.is_empty())
         .map(|(i, b)| {
+            let [x, y, z] = b.min.to_array().map(round_down);
+            let [u, v, w] = b.max.to_array().map(round_up);
             let b = Box32 {
-                lo: b.min.to_array().map(round_down),
-                hi: b.max.to_array().map(round_up),
+                lo: [x, y, z, 0.0],
+                hi: [u, v, w, 0.0],
             };
             Item {
                 id: i as u32,
@@ -153,26 +161,28 @@ fn leaf_cost(n: usize, p: &BvhParams) -> f64 {
     n.div_ceil(p.group) as f64 * p.group_cost
 }
 
-fn leaf(items: Vec<Item>, bounds: Box32) -> Binary {
+fn leaf(items: &[Item], bounds: Box32) -> Binary {
     Binary::Leaf {
         bounds: bounds.aabb(),
         items: items.iter().map(|i| i.id).collect(),
     }
 }
 
-fn node(mut items: Vec<Item>, p: BvhParams, depth: usize) -> Binary {
-    let bounds = bounds_of(&items);
+/// The node over `items`, which it reorders in place: each child is built
+/// over its own part of the slice, so no level copies or allocates items.
+fn node(items: &mut [Item], p: BvhParams, depth: usize) -> Binary {
+    let bounds = bounds_of(items);
     let n = items.len();
     if n <= 1 || depth >= MAX_BINARY_DEPTH {
         return leaf(items, bounds);
     }
-    let split = best_split(&items, &bounds, &p);
+    let split = best_split(items, &bounds, &p);
     let cut = match split {
         Some((axis, plane, cost)) => {
             if cost >= leaf_cost(n, &p) && n <= p.max_leaf {
                 return leaf(items, bounds);
             }
-            let mid = partition(&mut items, |i| i.c[axis] < plane);
+            let mid = partition(items, |i| i.c[axis] < plane);
             if mid == 0 || mid == n { n / 2 } else { mid }
         }
         // Every centre the same: no plane separates them.
@@ -183,11 +193,11 @@ fn node(mut items: Vec<Item>, p: BvhParams, depth: usize) -> Binary {
             n / 2
         }
     };
-    let right = items.split_off(cut);
+    let (left, right) = items.split_at_mut(cut);
     let (l, r) = if n > PARALLEL_ABOVE {
-        rayon::join(|| node(items, p, depth + 1), || node(right, p, depth + 1))
+        rayon::join(|| node(left, p, depth + 1), || node(right, p, depth + 1))
     } else {
-        (node(items, p, depth + 1), node(right, p, depth + 1))
+        (node(left, p, depth + 1), node(right, p, depth + 1))
     };
     Binary::Inner {
         bounds: bounds.aabb(),
@@ -220,21 +230,34 @@ fn best_split(items: &[Item], bounds: &Box32, p: &BvhParams) -> Option<(usize, f
         }
     }
     let area = bounds.half_area();
-    let mut best: Option<(usize, f32, f64)> = None;
+    // The three axes' bins in one pass over the items (the slice is read
+    // once, not once per axis); an axis with no spread gets none.
+    let mut scale = [0f32; 3];
+    let mut binned = [false; 3];
     for axis in 0..3 {
         let extent = hi[axis] - lo[axis];
-        if extent.is_nan() || extent <= 0.0 {
+        if !(extent.is_nan() || extent <= 0.0) {
+            scale[axis] = BINS as f32 / extent;
+            binned[axis] = true;
+        }
+    }
+    let bin = |axis: usize, c: f32| (((c - lo[axis]) * scale[axis]) as usize).min(BINS - 1);
+    let mut boxes = [[Box32::EMPTY; BINS]; 3];
+    let mut counts = [[0usize; BINS]; 3];
+    for i in items {
+        for axis in 0..3 {
+            // An axis without spread puts everything in bin 0, unread.
+            let k = bin(axis, i.c[axis]);
+            boxes[axis][k].grow(&i.b);
+            counts[axis][k] += 1;
+        }
+    }
+    let mut best: Option<(usize, f32, f64)> = None;
+    for axis in 0..3 {
+        if !binned[axis] {
             continue;
         }
-        let scale = BINS as f32 / extent;
-        let bin = |c: f32| (((c - lo[axis]) * scale) as usize).min(BINS - 1);
-        let mut boxes = [Box32::EMPTY; BINS];
-        let mut counts = [0usize; BINS];
-        for i in items {
-            let k = bin(i.c[axis]);
-            boxes[k].grow(&i.b);
-            counts[k] += 1;
-        }
+        let (boxes, counts, scale) = (&boxes[axis], &counts[axis], scale[axis]);
         // Sweep from the right, then from the left.
         let mut right_area = [0.0; BINS];
         let mut right_count = [0usize; BINS];
@@ -361,7 +384,7 @@ mod tests {
         let items = items_of(&boxes);
         assert_eq!(items.len(), N as usize);
         for start in [MAX_BINARY_DEPTH - 2, MAX_BINARY_DEPTH] {
-            let tree = node(items.clone(), P, start);
+            let tree = node(&mut items.clone(), P, start);
             assert_eq!(depth(&tree), MAX_BINARY_DEPTH - start);
             let mut ids = count(&tree);
             ids.sort();
