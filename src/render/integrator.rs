@@ -353,7 +353,7 @@ impl<'a> Integrator<'a> {
             self.trace_far(&Self::spawn(at, reflect_dir), depth + 1, path)
         });
         let mut out = match reflected {
-            Some((lr, sr)) => split.kr * dielectric::absorb(side.filter_here, sr) * lr,
+            Some((lr, sr)) => split.kr * dielectric::absorb(&side.filter_here, sr) * lr,
             None => Colour::ZERO,
         };
         if let Some(t) = split.refracted
@@ -364,7 +364,7 @@ impl<'a> Integrator<'a> {
             })
         {
             let kt = (1.0 - split.kr) / (side.eta * side.eta);
-            out += kt * dielectric::absorb(side.filter_there, st) * lt;
+            out += kt * dielectric::absorb(&side.filter_there, st) * lt;
         }
         out
     }
@@ -401,7 +401,7 @@ impl<'a> Integrator<'a> {
             } else {
                 glass.outside_filter
             };
-            t *= dielectric::absorb(filter, hit.t);
+            t *= dielectric::absorb(&filter, hit.t);
             if t == Colour::ZERO {
                 return t;
             }

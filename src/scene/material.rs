@@ -58,19 +58,58 @@ pub struct Phong {
 pub struct Dielectric {
     pub ior: f64,
     /// Per-channel transmittance per unit length inside (Beer: filter^t).
-    pub filter: Colour,
+    pub filter: Filter,
     pub outside_ior: f64,
-    pub outside_filter: Colour,
+    pub outside_filter: Filter,
 }
 
 impl Default for Dielectric {
     fn default() -> Self {
         Dielectric {
             ior: 1.5,
-            filter: Colour::ONE,
+            filter: Filter::CLEAR,
             outside_ior: 1.0,
-            outside_filter: Colour::ONE,
+            outside_filter: Filter::CLEAR,
         }
+    }
+}
+
+/// A medium's per-channel transmittance per unit length, f in [0, 1]³,
+/// with ln f worked out once: Beer's f^s for a path of length s is then
+/// e^(s·ln f), one `exp` where `powf` costs a logarithm and an `exp` again
+/// for every ray through glass.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Filter {
+    per_unit: Colour,
+    ln: Colour,
+}
+
+impl Filter {
+    /// Lets everything through.
+    pub const CLEAR: Filter = Filter {
+        per_unit: Colour::ONE,
+        ln: Colour::ZERO,
+    };
+
+    pub fn new(per_unit: Colour) -> Filter {
+        Filter {
+            per_unit,
+            ln: Colour::new(per_unit.x.ln(), per_unit.y.ln(), per_unit.z.ln()),
+        }
+    }
+
+    /// f, as written.
+    pub fn per_unit(&self) -> Colour {
+        self.per_unit
+    }
+
+    /// ln f per channel (0 for a clear channel, −∞ for an opaque one).
+    pub fn ln(&self) -> Colour {
+        self.ln
+    }
+
+    pub fn is_clear(&self) -> bool {
+        self.per_unit == Colour::ONE
     }
 }
 

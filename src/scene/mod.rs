@@ -17,7 +17,7 @@ pub use build::{
 pub use camera::{Camera, PixelRays, Projection, ThinLens};
 pub use colour::{Colour, Transfer};
 pub use light::{AreaLight, Environment, Light, LightKind, LightSurface, Occlusion};
-pub use material::{Dielectric, Material, MaterialId, Phong};
+pub use material::{Dielectric, Filter, Material, MaterialId, Phong};
 pub use texture::Texture;
 
 use crate::shapes::Shape;

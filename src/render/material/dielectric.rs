@@ -15,7 +15,7 @@
 //! s the distance each ray travels to its next hit (Beer's law, filter^s).
 
 use crate::geometry::DVec3;
-use crate::scene::{Colour, Dielectric};
+use crate::scene::{Colour, Dielectric, Filter};
 
 /// The two sides of the surface as this ray meets them.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -23,9 +23,9 @@ pub struct Interface {
     /// η = η_(side entered) / η_(side the ray is on).
     pub eta: f64,
     /// Filter of the medium the ray is in (its reflection stays there).
-    pub filter_here: Colour,
+    pub filter_here: Filter,
     /// Filter of the medium a refracted ray enters.
-    pub filter_there: Colour,
+    pub filter_there: Filter,
 }
 
 impl Interface {
@@ -81,17 +81,23 @@ pub fn split(d: DVec3, n: DVec3, eta: f64) -> Split {
 }
 
 /// Beer's law: what is left of light after `distance` in a medium of
-/// `filter` per unit length. An unbounded path (the ray escaped) keeps
-/// only the channels that are fully clear.
-pub fn absorb(filter: Colour, distance: f64) -> Colour {
-    if filter == Colour::ONE {
+/// `filter` per unit length, f^s = e^(s·ln f) per channel. An unbounded
+/// path (the ray escaped) keeps only the channels that are fully clear;
+/// no distance (s = 0) or a clear channel (ln f = 0) keeps everything, as
+/// `powf` does (the product would be NaN there).
+pub fn absorb(filter: &Filter, distance: f64) -> Colour {
+    if filter.is_clear() {
         return Colour::ONE;
     }
-    Colour::new(
-        filter.x.powf(distance),
-        filter.y.powf(distance),
-        filter.z.powf(distance),
-    )
+    let channel = |ln: f64| {
+        if ln == 0.0 || distance == 0.0 {
+            1.0
+        } else {
+            (ln * distance).exp()
+        }
+    };
+    let ln = filter.ln();
+    Colour::new(channel(ln.x), channel(ln.y), channel(ln.z))
 }
 
 #[cfg(test)]
@@ -139,28 +145,53 @@ mod tests {
 
     #[test]
     fn beer_multiplies_by_filter_to_the_distance() {
-        let f = Colour::new(0.5, 0.25, 1.0);
-        let a = absorb(f, 2.0);
+        let f = Filter::new(Colour::new(0.5, 0.25, 1.0));
+        let a = absorb(&f, 2.0);
         assert!((a - Colour::new(0.25, 0.0625, 1.0)).abs().max_element() < 1e-15);
         // Two halves make the whole.
-        assert!((absorb(f, 1.0) * absorb(f, 1.0) - a).abs().max_element() < 1e-15);
-        let gone = absorb(f, f64::INFINITY);
+        assert!((absorb(&f, 1.0) * absorb(&f, 1.0) - a).abs().max_element() < 1e-15);
+        let gone = absorb(&f, f64::INFINITY);
         assert_eq!(gone, Colour::new(0.0, 0.0, 1.0));
+        // No distance keeps everything, even in an opaque channel (0^0 = 1).
+        let opaque = Filter::new(Colour::new(0.0, 0.5, 1.0));
+        assert_eq!(absorb(&opaque, 0.0), Colour::ONE);
+        assert_eq!(absorb(&opaque, 0.5).x, 0.0);
+        assert_eq!(absorb(&Filter::CLEAR, f64::INFINITY), Colour::ONE);
+    }
+
+    #[test]
+    fn beer_agrees_with_powf_to_a_few_ulps() {
+        // e^(s·ln f) against f^s over filters and distances a scene meets.
+        let mut worst = 0.0f64;
+        for i in 1..=50 {
+            let f = i as f64 / 50.0;
+            let filter = Filter::new(Colour::new(f, f.sqrt(), f * f));
+            for k in 0..200 {
+                let s = k as f64 * 0.07;
+                let got = absorb(&filter, s);
+                for (g, c) in [(got.x, f), (got.y, f.sqrt()), (got.z, f * f)] {
+                    let want = c.powf(s);
+                    worst =
+                        worst.max((g - want).abs() / (want * f64::EPSILON).max(f64::MIN_POSITIVE));
+                }
+            }
+        }
+        assert!(worst < 64.0, "{worst} ulp");
     }
 
     #[test]
     fn sides_swap_on_the_way_out() {
         let d = Dielectric {
             ior: 1.5,
-            filter: Colour::splat(0.5),
+            filter: Filter::new(Colour::splat(0.5)),
             outside_ior: 1.33,
-            outside_filter: Colour::splat(0.9),
+            outside_filter: Filter::new(Colour::splat(0.9)),
         };
         let i = Interface::new(&d, true);
         let o = Interface::new(&d, false);
         assert!((i.eta * o.eta - 1.0).abs() < 1e-15);
         assert_eq!(i.filter_there, o.filter_here);
-        assert_eq!(i.filter_here, Colour::splat(0.9));
+        assert_eq!(i.filter_here, Filter::new(Colour::splat(0.9)));
     }
 }
 

@@ -181,7 +181,7 @@ impl Builder<'_> {
         ] {
             if let Some(q) = p.take(name) {
                 match self.colour(&q.values[0]) {
-                    Some((c, _)) if c.max_element() <= 1.0 => *slot = c,
+                    Some((c, _)) if c.max_element() <= 1.0 => *slot = crate::scene::Filter::new(c),
                     Some((c, s)) => {
                         self.err(
                             Error::new(s, "a filter cannot exceed 1 in any channel")
@@ -359,9 +359,9 @@ fn plain_key(m: &Material) -> Option<PlainKey> {
     });
     let d = refract.unwrap_or(crate::scene::Dielectric {
         ior: 0.0,
-        filter: Colour::ZERO,
+        filter: crate::scene::Filter::new(Colour::ZERO),
         outside_ior: 0.0,
-        outside_filter: Colour::ZERO,
+        outside_filter: crate::scene::Filter::new(Colour::ZERO),
     });
     let all: [f64; 28] = [
         c.x,
@@ -382,13 +382,13 @@ fn plain_key(m: &Material) -> Option<PlainKey> {
         glossy.unwrap_or(0.0),
         flag(refract.is_some()),
         d.ior,
-        d.filter.x,
-        d.filter.y,
-        d.filter.z,
+        d.filter.per_unit().x,
+        d.filter.per_unit().y,
+        d.filter.per_unit().z,
         d.outside_ior,
-        d.outside_filter.x,
-        d.outside_filter.y,
-        d.outside_filter.z,
+        d.outside_filter.per_unit().x,
+        d.outside_filter.per_unit().y,
+        d.outside_filter.per_unit().z,
         emit.x,
         emit.y,
         emit.z,
