@@ -107,10 +107,6 @@ impl Filter {
     pub fn ln(&self) -> Colour {
         self.ln
     }
-
-    pub fn is_clear(&self) -> bool {
-        self.per_unit == Colour::ONE
-    }
 }
 
 impl Material {
@@ -146,5 +142,32 @@ impl Default for Material {
             pick: None,
             normal: None,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_2017_material_keeps_its_colour_and_reflectivity_and_nothing_else() {
+        let c = Colour::new(0.2, 0.4, 0.6);
+        let m = Material::matte(Texture::Solid(c), 0.3);
+        assert_eq!(m.texture, Texture::Solid(c));
+        assert_eq!(m.reflect, 0.3);
+        let rest = Material {
+            texture: m.texture.clone(),
+            reflect: 0.3,
+            ..Material::default()
+        };
+        assert_eq!(m, rest);
+    }
+
+    #[test]
+    fn a_filter_keeps_its_logarithm() {
+        let f = Filter::new(Colour::new(1.0, 0.5, 0.0));
+        assert_eq!(f.per_unit(), Colour::new(1.0, 0.5, 0.0));
+        assert_eq!(f.ln(), Colour::new(0.0, 0.5f64.ln(), f64::NEG_INFINITY));
+        assert_eq!(Filter::CLEAR, Filter::new(Colour::ONE));
     }
 }

@@ -86,9 +86,6 @@ pub fn split(d: DVec3, n: DVec3, eta: f64) -> Split {
 /// no distance (s = 0) or a clear channel (ln f = 0) keeps everything, as
 /// `powf` does (the product would be NaN there).
 pub fn absorb(filter: &Filter, distance: f64) -> Colour {
-    if filter.is_clear() {
-        return Colour::ONE;
-    }
     let channel = |ln: f64| {
         if ln == 0.0 || distance == 0.0 {
             1.0

@@ -471,6 +471,35 @@ mod tests {
         assert_eq!(c.scene.materials.len(), 1 + 3 + 3 + 6);
     }
 
+    /// Glass whose words differ only in a worked-out filter keeps each
+    /// filter: the shared-material key reads the filter as written.
+    #[test]
+    fn glass_blocks_differing_only_in_their_filter_keep_their_own() {
+        let c = checked(
+            "for i in 0..6 {
+               sphere { centre <3 * i, 0, 0>  radius 1
+                 material { refract { ior 1.5  filter rgb(1, 1 - i / 10, 0.5)  outside_filter rgb(1, 1, 1 - i / 20) } } }
+             }",
+        );
+        assert!(c.errors.is_empty(), "{:?}", c.errors);
+        for i in 0..6 {
+            let m = material_at(&c.scene, 3.0 * i as f64);
+            let d = m.refract.as_ref().expect("glass");
+            let f = i as f64;
+            assert_eq!(
+                d.filter.per_unit(),
+                Colour::new(1.0, 1.0 - f / 10.0, 0.5),
+                "{i}"
+            );
+            assert_eq!(
+                d.outside_filter.per_unit(),
+                Colour::new(1.0, 1.0, 1.0 - f / 20.0),
+                "{i}"
+            );
+        }
+        assert_eq!(c.scene.materials.len(), 1 + 6);
+    }
+
     /// A block that reports a mistake (an unknown parameter, the material
     /// still made) is reported where each copy of it is written.
     #[test]
