@@ -234,8 +234,7 @@ fn apply_overrides(args: &Args, scene: &mut scene::Scene) {
         scene.settings.height = h;
     }
     if let Some(n) = args.samples {
-        scene.settings.samples = n;
-        scene.settings.sample_rows = None;
+        scene.settings.set_square_grid(n);
     }
 }
 

@@ -239,14 +239,16 @@ impl Pass {
     fn settings(self, full: &scene::RenderSettings) -> scene::RenderSettings {
         match self {
             Pass::Full => full.clone(),
-            Pass::Coarse { width, height } => scene::RenderSettings {
-                width,
-                height,
-                samples: 1,
-                sample_rows: None,
-                adaptive: None,
-                ..full.clone()
-            },
+            Pass::Coarse { width, height } => {
+                let mut s = scene::RenderSettings {
+                    width,
+                    height,
+                    adaptive: None,
+                    ..full.clone()
+                };
+                s.set_square_grid(1);
+                s
+            }
         }
     }
 

@@ -103,6 +103,13 @@ impl RenderSettings {
     pub fn grid(&self) -> (u32, u32) {
         (self.samples, self.sample_rows.unwrap_or(self.samples))
     }
+
+    /// An n × n grid, whatever grid was set before (`--samples n`, the
+    /// preview's first pass).
+    pub fn set_square_grid(&mut self, n: u32) {
+        self.samples = n;
+        self.sample_rows = None;
+    }
 }
 
 impl Default for RenderSettings {

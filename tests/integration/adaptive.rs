@@ -331,7 +331,16 @@ fn a_grid_of_columns_and_rows_casts_their_product() {
     );
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(stderr(&o).contains("(4.00 samples each"), "{}", stderr(&o));
-    for bad in ["<0, 4>", "<8, 4.5>", "<8, 17>", "<1, 2, 3>", "rgb(1, 1, 1)"] {
+    for bad in [
+        "0",
+        "2.5",
+        "17",
+        "<0, 4>",
+        "<8, 4.5>",
+        "<8, 17>",
+        "<1, 2, 3>",
+        "rgb(1, 1, 1)",
+    ] {
         let e = build_error(&disc_scene(&format!("{base}  samples {bad}")));
         assert!(
             e.contains("whole number") && e.contains("1 to 16"),

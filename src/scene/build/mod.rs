@@ -490,6 +490,11 @@ impl<'p> Builder<'p> {
     /// A number checked by `ok`; `what` completes "must be …".
     fn checked(&mut self, item: &Item, ok: impl Fn(f64) -> bool, what: &str) -> Option<f64> {
         let (v, s) = self.number(item)?;
+        self.check(v, s, ok, what)
+    }
+
+    /// [`Builder::checked`] for a number already worked out, at span `s`.
+    fn check(&mut self, v: f64, s: Span, ok: impl Fn(f64) -> bool, what: &str) -> Option<f64> {
         if ok(v) {
             Some(v)
         } else {
@@ -504,8 +509,15 @@ impl<'p> Builder<'p> {
 
     /// A whole number in `lo..=hi`.
     fn integer(&mut self, item: &Item, lo: u32, hi: u32) -> Option<u32> {
-        let v = self.checked(
-            item,
+        let (v, s) = self.number(item)?;
+        self.whole(v, s, lo, hi)
+    }
+
+    /// [`Builder::integer`] for a number already worked out, at span `s`.
+    fn whole(&mut self, v: f64, s: Span, lo: u32, hi: u32) -> Option<u32> {
+        let v = self.check(
+            v,
+            s,
             |v| v.fract() == 0.0 && v >= lo as f64 && v <= hi as f64,
             &format!("a whole number from {lo} to {hi}"),
         )?;

@@ -10,7 +10,7 @@ impl Builder<'_> {
         const MAX: u32 = crate::scene::MAX_SAMPLES;
         let what = format!("a whole number from 1 to {MAX}, or `<columns, rows>` of them");
         match self.value(item, &what)? {
-            (Value::Number(_), _) => self.integer(item, 1, MAX).map(|n| (n, None)),
+            (Value::Number(x), s) => self.whole(x, s, 1, MAX).map(|n| (n, None)),
             (Value::Vector(v), s) if v.len() == 2 => {
                 let whole = |c: f64| c.fract() == 0.0 && (1.0..=MAX as f64).contains(&c);
                 if whole(v[0]) && whole(v[1]) {
