@@ -219,14 +219,14 @@ struct Cascade<const N: usize> {
 }
 
 impl<const N: usize> Cascade<N> {
-    // Inlined, so that the state (a few hundred bytes) is built where it
-    // stays rather than built and then copied: the copy cost as much as
-    // a tenth of a quartic's solve.
+    // Filled in place in the caller's state (a few hundred bytes): built
+    // here and returned, it was copied out with a `memcpy` per solve
+    // even when inlined.
     #[inline(always)]
-    fn new(c: &[f64], lo: f64, hi: f64, eps: f64) -> Self {
-        let deg = c.len() - 1;
-        debug_assert!((3..N).contains(&deg));
-        let mut derivs = [[0.0f64; N]; N];
+    fn fill(&mut self, c: &[f64], lo: f64) {
+        let deg = self.deg;
+        debug_assert!((3..N).contains(&deg) && c.len() == deg + 1);
+        let derivs = &mut self.derivs;
         derivs[0][..=deg].copy_from_slice(c);
         for k in 1..=deg - 2 {
             let m = deg - k;
@@ -235,36 +235,20 @@ impl<const N: usize> Cascade<N> {
                 derivs[k][j] = derivs[k - 1][j + 1] * (j + 1) as f64 / (m + 1) as f64;
             }
         }
-        let mut quad = [0.0; 2];
-        let mut quad_count = 0;
-        let q = &derivs[deg - 2];
+        let hi = self.hi;
+        let q = &self.derivs[deg - 2];
         if let Some((r0, r1)) = solve_quadratic(q[2], q[1], q[0]) {
             for t in [r0, r1] {
-                if t > lo && t < hi && (quad_count == 0 || t > quad[quad_count - 1]) {
-                    quad[quad_count] = t;
-                    quad_count += 1;
+                if t > lo && t < hi && (self.quad_count == 0 || t > self.quad[self.quad_count - 1])
+                {
+                    self.quad[self.quad_count] = t;
+                    self.quad_count += 1;
                 }
             }
         }
-        let mut s = Cascade {
-            deg,
-            derivs,
-            hi,
-            eps,
-            a: [lo; N],
-            fa: [0.0; N],
-            b: [hi; N],
-            fb: [0.0; N],
-            fetched: [false; N],
-            done: [false; N],
-            quad,
-            quad_count,
-            quad_next: 0,
-        };
         for k in 0..deg - 2 {
-            s.fa[k] = horner(s.poly(k), lo);
+            self.fa[k] = horner(self.poly(k), lo);
         }
-        s
     }
 
     #[inline]
@@ -316,7 +300,22 @@ fn cascade<const N: usize>(
     if horner(c, lo) == 0.0 && visit(lo) {
         return;
     }
-    let mut s = Cascade::<N>::new(c, lo, hi, eps);
+    let mut s = Cascade::<N> {
+        deg: c.len() - 1,
+        derivs: [[0.0f64; N]; N],
+        hi,
+        eps,
+        a: [lo; N],
+        fa: [0.0; N],
+        b: [hi; N],
+        fb: [0.0; N],
+        fetched: [false; N],
+        done: [false; N],
+        quad: [0.0; 2],
+        quad_count: 0,
+        quad_next: 0,
+    };
+    s.fill(c, lo);
     while let Some(r) = s.next(0) {
         if visit(r) {
             return;
