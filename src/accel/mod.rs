@@ -327,9 +327,8 @@ impl World {
         let mut best: Option<&dyn Shape> = None;
         let mut t_best = t_max;
         for o in &self.unbounded {
-            if let Some(h) = o.intersect(ray, t_min, t_best) {
-                t_best = h.t;
-                *hit = h;
+            if o.intersect_into(ray, t_min, t_best, hit) {
+                t_best = hit.t;
                 best = Some(&**o);
             }
         }
@@ -341,19 +340,19 @@ impl World {
                         return None;
                     }
                     let o = &*self.bounded[i as usize];
-                    let h = o.intersect(ray, t_min, limit)?;
-                    *hit = h;
+                    if !o.intersect_into(ray, t_min, limit, hit) {
+                        return None;
+                    }
                     best = Some(o);
-                    Some(h.t)
+                    Some(hit.t)
                 });
             }
             // Each object is in one leaf: no mailbox.
             WorldIndex::Bvh(b) => b.walk(ray, t_min, t_best, |first, count, mut limit| {
                 for &i in &b.items()[first..first + count] {
                     let o = &*self.bounded[i as usize];
-                    if let Some(h) = o.intersect(ray, t_min, limit) {
-                        limit = h.t;
-                        *hit = h;
+                    if o.intersect_into(ray, t_min, limit, hit) {
+                        limit = hit.t;
                         best = Some(o);
                     }
                 }

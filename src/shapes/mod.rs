@@ -148,6 +148,21 @@ pub trait Shape: Send + Sync + std::fmt::Debug {
     /// The nearest hit with `t_min < t < t_max`.
     fn intersect(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<Hit>;
 
+    /// [`Shape::intersect`] written into `hit` (left as it was on a miss).
+    /// The world's nearest-hit query keeps one hit for the whole search:
+    /// the commonest shapes build theirs there, and a transform passes it
+    /// through, where a hit handed back in an `Option` is copied (160
+    /// bytes) at every level it goes up.
+    fn intersect_into(&self, ray: &Ray, t_min: f64, t_max: f64, hit: &mut Hit) -> bool {
+        match self.intersect(ray, t_min, t_max) {
+            Some(h) => {
+                *hit = h;
+                true
+            }
+            None => false,
+        }
+    }
+
     /// Whether the surface surely misses the convex hull of `points` (a
     /// shadow shaft, accel/shaft.rs): only unbounded shapes are asked, the
     /// others are culled by their boxes. `false` when unsure.
@@ -450,6 +465,17 @@ pub(crate) mod testing {
     pub fn check_consistency(shape: &dyn Shape, rays: &[Ray]) {
         for r in rays {
             let hit = shape.intersect(r, 1e-9, f64::INFINITY);
+            // The in-place route gives the same hit, and leaves a miss's
+            // hit alone.
+            let mut into = Hit {
+                t: -7.0,
+                ..Hit::default()
+            };
+            let found = shape.intersect_into(r, 1e-9, f64::INFINITY, &mut into);
+            match hit {
+                Some(h) => assert!(found && into == h, "{into:?} vs {h:?} for {r:?}"),
+                None => assert!(!found && into.t == -7.0, "{into:?} for {r:?}"),
+            }
             let mut xs = Vec::new();
             shape.crossings(r, &mut xs);
             let first = xs.iter().find(|h| h.t > 1e-9);

@@ -98,6 +98,14 @@ impl Shape for Plane {
         Some(self.hit_at(ray, t))
     }
 
+    fn intersect_into(&self, ray: &Ray, t_min: f64, t_max: f64, hit: &mut Hit) -> bool {
+        let Some(t) = self.root_in(ray, t_min, t_max) else {
+            return false;
+        };
+        *hit = self.hit_at(ray, t);
+        true
+    }
+
     fn crossings(&self, ray: &Ray, out: &mut Vec<Hit>) {
         if let Some(t) = self.root(ray) {
             out.push(self.hit_at(ray, t));

@@ -67,6 +67,14 @@ impl Sphere {
     /// radius entirely from far away (a unit sphere seen from 1e8 turns
     /// octagonal); r² − |l|², with l the vector from the centre to the
     /// line's closest point, subtracts numbers of the sphere's own size.
+    /// The nearer root in (t_min, t_max).
+    #[inline]
+    fn nearest_root(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<f64> {
+        let (t0, t1) = self.roots(ray)?;
+        let t = if t0 > t_min { t0 } else { t1 };
+        (t > t_min && t < t_max).then_some(t)
+    }
+
     fn roots(&self, ray: &Ray) -> Option<(f64, f64)> {
         let f = ray.origin - self.centre;
         let a = ray.dir.length_squared();
@@ -104,9 +112,16 @@ pub fn sphere_uv(n: DVec3) -> DVec2 {
 
 impl Shape for Sphere {
     fn intersect(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<Hit> {
-        let (t0, t1) = self.roots(ray)?;
-        let t = if t0 > t_min { t0 } else { t1 };
-        (t > t_min && t < t_max).then(|| self.hit_at(ray, t))
+        let t = self.nearest_root(ray, t_min, t_max)?;
+        Some(self.hit_at(ray, t))
+    }
+
+    fn intersect_into(&self, ray: &Ray, t_min: f64, t_max: f64, hit: &mut Hit) -> bool {
+        let Some(t) = self.nearest_root(ray, t_min, t_max) else {
+            return false;
+        };
+        *hit = self.hit_at(ray, t);
+        true
     }
 
     fn crossings(&self, ray: &Ray, out: &mut Vec<Hit>) {
