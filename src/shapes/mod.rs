@@ -139,6 +139,18 @@ impl Crossing {
     }
 }
 
+/// [`Shape::intersect_into`] for a shape that finds its root `t` first
+/// and then builds the hit from it: `hit_at(t)` written into `hit`, or
+/// false (and `hit` untouched) when there is no root.
+#[inline(always)]
+pub(crate) fn write_hit(t: Option<f64>, hit: &mut Hit, hit_at: impl FnOnce(f64) -> Hit) -> bool {
+    let Some(t) = t else {
+        return false;
+    };
+    *hit = hit_at(t);
+    true
+}
+
 thread_local! {
     static LITE_TMP: std::cell::Cell<Vec<Hit>> = const { std::cell::Cell::new(Vec::new()) };
 }

@@ -99,11 +99,9 @@ impl Shape for Plane {
     }
 
     fn intersect_into(&self, ray: &Ray, t_min: f64, t_max: f64, hit: &mut Hit) -> bool {
-        let Some(t) = self.root_in(ray, t_min, t_max) else {
-            return false;
-        };
-        *hit = self.hit_at(ray, t);
-        true
+        super::write_hit(self.root_in(ray, t_min, t_max), hit, |t| {
+            self.hit_at(ray, t)
+        })
     }
 
     fn crossings(&self, ray: &Ray, out: &mut Vec<Hit>) {

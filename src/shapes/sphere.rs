@@ -117,11 +117,9 @@ impl Shape for Sphere {
     }
 
     fn intersect_into(&self, ray: &Ray, t_min: f64, t_max: f64, hit: &mut Hit) -> bool {
-        let Some(t) = self.nearest_root(ray, t_min, t_max) else {
-            return false;
-        };
-        *hit = self.hit_at(ray, t);
-        true
+        super::write_hit(self.nearest_root(ray, t_min, t_max), hit, |t| {
+            self.hit_at(ray, t)
+        })
     }
 
     fn crossings(&self, ray: &Ray, out: &mut Vec<Hit>) {
