@@ -431,9 +431,10 @@ fn print_stats(
     eprintln!("render     {:>10.3} s", stats.seconds);
     eprintln!("total      {:>10.3} s", total.as_secs_f64());
     eprintln!(
-        "rays       {:>10}  (primary {}, reflected {}, refracted {}, shadow {}: {} settled by shaft culling; {} not cast, below the bailout)",
+        "rays       {:>10}  (primary {}: beamed {}; reflected {}, refracted {}, shadow {}: {} settled by shaft culling; {} not cast, below the bailout)",
         r.total(),
         r.primary,
+        r.beamed,
         r.reflected,
         r.refracted,
         r.shadow,

@@ -5,6 +5,7 @@
 //! triangles of each mesh. Unbounded ones (planes, some implicit surfaces)
 //! are tested one by one beside it.
 
+pub mod beam;
 pub mod bvh;
 mod kdtree;
 mod shaft;
@@ -52,7 +53,7 @@ impl Accel {
     }
 }
 
-use crate::geometry::Ray;
+use crate::geometry::{Aabb, Ray};
 use crate::shapes::{Hit, Shape};
 use std::sync::atomic::{AtomicU64, Ordering};
 
@@ -218,6 +219,10 @@ impl Mailbox {
 #[derive(Debug)]
 pub struct World {
     bounded: Vec<Box<dyn Shape>>,
+    /// Each bounded object's box, and the box around them all (empty
+    /// when there are none).
+    boxes: Vec<Aabb>,
+    bounded_box: Aabb,
     index: WorldIndex,
     unbounded: Vec<Box<dyn Shape>>,
     pub stats: AccelStats,
@@ -255,6 +260,7 @@ impl World {
             }
         }
         let boxes: Vec<_> = bounded.iter().map(|o| o.bounds()).collect();
+        let bounded_box = boxes.iter().fold(Aabb::EMPTY, |a, b| a.union(b));
         let (index, nodes, tree, bvh, tree_bytes) = match accel {
             // Auto: the kd-tree over the scene's objects.
             Accel::KdTree | Accel::Auto => {
@@ -287,6 +293,8 @@ impl World {
         };
         World {
             bounded,
+            boxes,
+            bounded_box,
             index,
             unbounded,
             stats,
@@ -390,12 +398,16 @@ impl World {
 /// these alone, and not at all when there are none. An object that blocks
 /// a ray moves to the front, so the next ray of the grid tries it first
 /// (neighbouring rays are mostly blocked by the same object).
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, Default)]
 pub struct Blockers {
     /// Indices into `bounded`, or into `unbounded` with [`UNBOUNDED`] set.
     ids: [u32; Blockers::MAX],
     len: usize,
 }
+
+/// Up to this many bounded objects, a beam's are found by testing each
+/// box rather than by walking the tree.
+const BEAM_SCAN: usize = 32;
 
 /// Marks an index into `World::unbounded` in [`Blockers`].
 const UNBOUNDED: u32 = 1 << 31;
@@ -431,10 +443,7 @@ impl World {
     /// The objects that may block a ray inside `shaft`, or `None` when
     /// there are more than [`Blockers::MAX`].
     pub fn blockers(&self, shaft: &Shaft) -> Option<Blockers> {
-        let mut b = Blockers {
-            ids: [0; Blockers::MAX],
-            len: 0,
-        };
+        let mut b = Blockers::default();
         let corners = shaft.vertices();
         for (i, o) in self.unbounded.iter().enumerate() {
             if !o.misses_hull(&corners) && !b.push(i as u32 | UNBOUNDED) {
@@ -459,18 +468,72 @@ impl World {
         t_max: f64,
     ) -> bool {
         for k in 0..blockers.len {
-            let id = blockers.ids[k];
-            let o = if id & UNBOUNDED != 0 {
-                &self.unbounded[(id & !UNBOUNDED) as usize]
-            } else {
-                &self.bounded[id as usize]
-            };
+            let o = self.object(blockers.ids[k]);
             if o.occludes(ray, t_min, t_max) {
                 blockers.ids[..=k].rotate_right(1);
                 return true;
             }
         }
         false
+    }
+
+    /// The objects any of the `rays` of one pixel may hit: every
+    /// unbounded one and the bounded ones whose boxes meet their beam
+    /// (accel/beam.rs). `None` when there are more than [`Blockers::MAX`]
+    /// or the rays make no beam: they go through the tree then.
+    pub fn beam_candidates(&self, rays: &beam::RayFamily) -> Option<Blockers> {
+        let mut b = Blockers::default();
+        for i in 0..self.unbounded.len() {
+            if !b.push(i as u32 | UNBOUNDED) {
+                return None;
+            }
+        }
+        if self.bounded.is_empty() {
+            return Some(b);
+        }
+        let beam = beam::Beam::new(rays, &self.bounded_box)?;
+        let keep = |i: u32| !beam.may_meet(&self.boxes[i as usize]) || b.push(i);
+        // A few objects are quicker tested in a row than found in the tree.
+        let all = if self.boxes.len() <= BEAM_SCAN {
+            (0..self.boxes.len() as u32).all(keep)
+        } else {
+            match &self.index {
+                WorldIndex::Kd(t) => t.overlapping(&beam.bounds(), keep),
+                WorldIndex::Bvh(t) => t.overlapping(&beam.bounds(), keep),
+            }
+        };
+        all.then_some(b)
+    }
+
+    /// [`World::nearest_into`] for a ray inside the beam `candidates` were
+    /// found for: each candidate tested in turn, none skipped.
+    pub fn nearest_among(
+        &self,
+        candidates: &Blockers,
+        ray: &Ray,
+        t_min: f64,
+        t_max: f64,
+        hit: &mut Hit,
+    ) -> Option<&dyn Shape> {
+        let mut best: Option<&dyn Shape> = None;
+        let mut t_best = t_max;
+        for &id in &candidates.ids[..candidates.len] {
+            let o = self.object(id);
+            if o.intersect_into(ray, t_min, t_best, hit) {
+                t_best = hit.t;
+                best = Some(o);
+            }
+        }
+        best
+    }
+
+    /// The object a [`Blockers`] id names.
+    fn object(&self, id: u32) -> &dyn Shape {
+        if id & UNBOUNDED != 0 {
+            &*self.unbounded[(id & !UNBOUNDED) as usize]
+        } else {
+            &*self.bounded[id as usize]
+        }
     }
 }
 
@@ -574,6 +637,57 @@ mod tests {
             let world = World::build_with(objects, accel);
             blockers_decide_every_ray(&world, &mut rnd);
         }
+    }
+
+    #[test]
+    fn a_pixels_rays_find_among_their_beams_objects_what_the_tree_finds() {
+        let _watchdog = crate::watchdog::start();
+        let mut rnd = beam::tests::rng(0x0bea_3c0d);
+        // 20 balls (tested in a row for the beam) and 60 (found in the
+        // tree), over a floor, seen through a lens from around them.
+        for (count, accel) in [(20, Accel::KdTree), (60, Accel::KdTree), (60, Accel::Bvh)] {
+            let mut objects: Vec<Box<dyn Shape>> = (0..count)
+                .map(|i| {
+                    let c = DVec3::new(rnd() * 10.0 - 5.0, rnd() * 4.0, rnd() * 10.0 - 5.0);
+                    Box::new(Sphere::new(c, 0.2 + 0.6 * rnd(), i)) as Box<dyn Shape>
+                })
+                .collect();
+            objects.push(Box::new(Plane::new(DVec3::Y, -0.5, 999)));
+            let world = World::build_with(objects, accel);
+            let (mut used, mut few, mut hits, mut misses) = (0, 0, 0, 0);
+            for _ in 0..300 {
+                let eye = DVec3::new(rnd() * 24.0 - 12.0, 1.0 + rnd() * 6.0, 14.0);
+                let target = DVec3::new(rnd() * 8.0 - 4.0, rnd() * 12.0, rnd() * 8.0 - 4.0);
+                let f = beam::tests::family(eye, target - eye, 0.3 * rnd(), 2.0 + 20.0 * rnd());
+                let Some(among) = world.beam_candidates(&f) else {
+                    continue;
+                };
+                used += 1;
+                few += (among.len() <= 3) as u32;
+                for _ in 0..24 {
+                    let lens = (2.0 * rnd() - 1.0, 2.0 * rnd() - 1.0);
+                    let ray = beam::tests::ray_of(&f, lens, (rnd(), rnd()));
+                    let (mut a, mut b) = (Hit::default(), Hit::default());
+                    let want = world.nearest_into(&ray, 0.0, f64::INFINITY, &mut a);
+                    let got = world.nearest_among(&among, &ray, 0.0, f64::INFINITY, &mut b);
+                    assert_eq!(want.is_some(), got.is_some());
+                    if let (Some(w), Some(g)) = (want, got) {
+                        assert!(std::ptr::addr_eq(w, g), "another object");
+                        assert_eq!((a.t, a.point), (b.t, b.point));
+                        hits += 1;
+                    } else {
+                        misses += 1;
+                    }
+                }
+            }
+            // Most beams hold a few objects, and rays hit and miss.
+            assert!(used > 250 && few > 150, "{count}: {used} {few}");
+            assert!(hits > 1000 && misses > 100, "{count}: {hits} {misses}");
+        }
+        // No bounded object: the unbounded ones alone.
+        let floor = World::build(vec![Box::new(Plane::new(DVec3::Y, 0.0, 0))]);
+        let f = beam::tests::family(DVec3::new(0.0, 2.0, 5.0), -DVec3::Z, 0.1, 5.0);
+        assert_eq!(floor.beam_candidates(&f).map(|b| b.len()), Some(1));
     }
 
     fn blockers_decide_every_ray(world: &World, rnd: &mut impl FnMut() -> f64) {

@@ -5,7 +5,8 @@
 //! sample) and aims it where the pinhole ray meets the plane of focus, so
 //! a point at distance z blurs into a circle of radius a·|1 − z/f| there.
 
-use super::sampler::concentric_disc;
+use super::sampler::{Pixel, concentric_disc};
+use crate::accel::beam::RayFamily;
 use crate::geometry::Ray;
 use crate::scene::{Camera, PixelRays, ThinLens};
 
@@ -26,6 +27,26 @@ impl CameraRays {
     /// Whether rays need lens samples.
     pub fn has_lens(&self) -> bool {
         self.lens.is_some()
+    }
+
+    /// Every ray [`CameraRays::ray`] makes for points of `pixel` (the
+    /// lens's disc inside its square), for beam culling (accel/beam.rs).
+    pub fn family(&self, pixel: Pixel) -> RayFamily {
+        let (origin, [right, up, forward], distance) = self.rays.frame();
+        let (lo, hi) = self.rays.footprint(pixel.x, pixel.y);
+        let (lens, depth) = self.lens.map_or((0.0, distance), |l| (l.aperture, l.focus));
+        // Through the view plane at d, so through (r, u')·depth/d at depth.
+        let at = depth / distance;
+        RayFamily {
+            origin,
+            right,
+            up,
+            forward,
+            lens,
+            depth,
+            lo: lo.map(|v| v * at),
+            hi: hi.map(|v| v * at),
+        }
     }
 
     /// The ray through image point (x, y) (pixel units from the top-left

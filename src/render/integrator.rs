@@ -98,6 +98,10 @@ impl<'a> Integrator<'a> {
         Ray::new(Self::spawn_origin(at, dir), dir)
     }
 
+    pub fn world(&self) -> &World {
+        self.world
+    }
+
     /// Colour seen along `ray` (unit direction), after `depth` bounces.
     pub fn trace(&self, ray: &Ray, depth: u32, path: &mut Path) -> Colour {
         if depth == 0 {
@@ -105,14 +109,35 @@ impl<'a> Integrator<'a> {
         } else {
             path.counts.reflected += 1;
         }
-        self.trace_far(ray, depth, path).0
+        self.trace_far(ray, depth, path, None).0
+    }
+
+    /// [`Integrator::trace`] for a camera ray inside the beam `among` was
+    /// found for ([`World::beam_candidates`]): its first hit is looked for
+    /// among those objects alone.
+    pub fn trace_camera(&self, ray: &Ray, path: &mut Path, among: Option<&Blockers>) -> Colour {
+        path.counts.primary += 1;
+        path.counts.beamed += among.is_some() as u64;
+        self.trace_far(ray, 0, path, among).0
     }
 
     /// [`Integrator::trace`] and how far the ray went before its hit (∞ on
     /// a miss), for Beer absorption along it; the caller counts the ray.
-    fn trace_far(&self, ray: &Ray, depth: u32, path: &mut Path) -> (Colour, f64) {
+    fn trace_far(
+        &self,
+        ray: &Ray,
+        depth: u32,
+        path: &mut Path,
+        among: Option<&Blockers>,
+    ) -> (Colour, f64) {
         let mut hit = crate::shapes::Hit::default();
-        let Some(object) = self.world.nearest_into(ray, 0.0, f64::INFINITY, &mut hit) else {
+        let found = match among {
+            Some(c) => self
+                .world
+                .nearest_among(c, ray, 0.0, f64::INFINITY, &mut hit),
+            None => self.world.nearest_into(ray, 0.0, f64::INFINITY, &mut hit),
+        };
+        let Some(object) = found else {
             return (self.miss(ray.dir), f64::INFINITY);
         };
         // Material patterns choose here; (u, v) is computed if read.
@@ -350,7 +375,7 @@ impl<'a> Integrator<'a> {
         // The weights are POV-Ray's: F and 1 − F (absorption left out).
         let reflected = self.weighted(path, split.kr, |path| {
             path.counts.reflected += 1;
-            self.trace_far(&Self::spawn(at, reflect_dir), depth + 1, path)
+            self.trace_far(&Self::spawn(at, reflect_dir), depth + 1, path, None)
         });
         let mut out = match reflected {
             Some((lr, sr)) => split.kr * dielectric::absorb(&side.filter_here, sr) * lr,
@@ -360,7 +385,7 @@ impl<'a> Integrator<'a> {
             && let Some((lt, st)) = self.weighted(path, 1.0 - split.kr, |path| {
                 // The refracted ray leaves on the far side.
                 path.counts.refracted += 1;
-                self.trace_far(&Self::spawn(at, t), depth + 1, path)
+                self.trace_far(&Self::spawn(at, t), depth + 1, path, None)
             })
         {
             let kt = (1.0 - split.kr) / (side.eta * side.eta);

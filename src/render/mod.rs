@@ -52,6 +52,10 @@ impl RenderOptions<'_> {
 /// The dimensions of a sample that place it in the pixel and on the lens.
 const PIXEL_DIM: u32 = 0;
 const LENS_DIM: u32 = 2;
+/// A pixel with at least this many camera rays finds their first hits
+/// through one beam (accel/beam.rs): with fewer, building it costs more
+/// than the walks it saves.
+const BEAM_RAYS: usize = 4;
 
 /// A rectangle of the picture, in the full picture's pixel coordinates.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -206,6 +210,14 @@ impl PixelRenderer<'_> {
                 let q = scratch.lens.get(s).copied().unwrap_or((0.5, 0.5));
                 self.camera.ray(pixel.x as f64 + dx, pixel.y as f64 + dy, q)
             }));
+        // Many rays a pixel: their first hits are looked for among the few
+        // objects their beam meets, not by a walk of the tree each.
+        let among = if scratch.rays.len() >= BEAM_RAYS {
+            let family = self.camera.family(pixel);
+            self.integrator.world().beam_candidates(&family)
+        } else {
+            None
+        };
         let key = PixelKey::new(pixel, sampler.seed);
         let mut sum = Colour::ZERO;
         for (s, ray) in scratch.rays.iter().enumerate() {
@@ -214,7 +226,7 @@ impl PixelRenderer<'_> {
                 counts,
                 weight: 1.0,
             };
-            let c = self.integrator.trace(ray, 0, &mut path);
+            let c = self.integrator.trace_camera(ray, &mut path, among.as_ref());
             scratch.colours.push(c);
             sum += c;
         }

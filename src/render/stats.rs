@@ -10,6 +10,10 @@ pub struct RayCounts {
     /// Shadow rays that shaft culling found clear without casting them
     /// (counted in `shadow` too: the same question, answered).
     pub settled: u64,
+    /// Camera rays whose first hit was looked for among the few objects
+    /// their pixel's beam meets (accel/beam.rs), not in the tree
+    /// (counted in `primary` too).
+    pub beamed: u64,
     /// Reflected and refracted rays not cast because their share of the
     /// pixel fell below `render { bailout }` (not counted elsewhere).
     pub bailed: u64,
@@ -24,6 +28,7 @@ impl RayCounts {
         self.refracted += o.refracted;
         self.shadow += o.shadow;
         self.settled += o.settled;
+        self.beamed += o.beamed;
         self.bailed += o.bailed;
         self.refined += o.refined;
     }

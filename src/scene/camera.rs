@@ -62,7 +62,8 @@ pub struct PixelRays {
     corner: DVec3,
     step_right: DVec3,
     step_down: DVec3,
-    /// The unit frame vectors r and u', and the view-plane distance d.
+    /// The unit frame vectors l, r and u', and the view-plane distance d.
+    forward: DVec3,
     right: DVec3,
     up: DVec3,
     distance: f64,
@@ -105,6 +106,7 @@ impl Camera {
             corner: centre - r * (w / 2.0) + u * (h / 2.0),
             step_right,
             step_down,
+            forward: l,
             right: r,
             up: u,
             distance: z,
@@ -123,6 +125,26 @@ impl PixelRays {
     pub fn ray_at(&self, x: f64, y: f64) -> Ray {
         let p = self.corner + x * self.step_right + y * self.step_down;
         Ray::new(self.origin, (p - self.origin).normalize())
+    }
+
+    /// The eye, the unit frame (r, u', l) and the view plane's distance d.
+    pub fn frame(&self) -> (DVec3, [DVec3; 3], f64) {
+        (
+            self.origin,
+            [self.right, self.up, self.forward],
+            self.distance,
+        )
+    }
+
+    /// Where the view plane's pixel (column a, row b) lies, as (r, u')
+    /// coordinates about the eye: the least and the greatest of each.
+    pub fn footprint(&self, a: u32, b: u32) -> ([f64; 2], [f64; 2]) {
+        let c = self.corner - self.origin;
+        let x = |k: u32| c.dot(self.right) + k as f64 * self.step_right.dot(self.right);
+        let y = |k: u32| c.dot(self.up) + k as f64 * self.step_down.dot(self.up);
+        let (x0, x1) = (x(a), x(a + 1));
+        let (y0, y1) = (y(b), y(b + 1));
+        ([x0.min(x1), y0.min(y1)], [x0.max(x1), y0.max(y1)])
     }
 
     /// The thin-lens ray through image point (x, y) from lens point

@@ -60,6 +60,38 @@ sphere { radius 1  material { refract { ior 1.5 } } }
     assert!(s.contains("rays/s") && s.contains("shadow "), "{s}");
 }
 
+#[test]
+fn pixels_of_many_samples_find_their_first_hits_through_a_beam() {
+    let _watchdog = crate::watchdog::start();
+    // A few objects over a floor: with 3 x 3 samples, and through a lens,
+    // every camera ray is looked for among its pixel's beam's objects;
+    // with one sample a pixel none is (a beam would cost more than it
+    // saves).
+    let scene = |lens: &str, samples: &str| {
+        format!(
+            "
+camera {{ position <0, 2, 6>  look_at <0, 0.5, 0>  fov 40 {lens} }}
+render {{ width 12  height 10 {samples} }}
+light {{ position <3, 5, 4> }}
+sphere {{ centre <-1, 0.5, 0>  radius 0.5 }}
+sphere {{ centre <1, 0.5, 0>  radius 0.5 }}
+box {{ min <-0.3, 0, 1>  max <0.3, 0.6, 1.6> }}
+plane {{ normal <0, 1, 0> }}
+"
+        )
+    };
+    for (lens, samples, primary, beamed) in [
+        ("", "", 120, 0),
+        ("", "samples 3", 1080, 1080),
+        ("aperture 0.1  focus 6", "samples <4, 2>", 960, 960),
+        ("aperture 0.1  focus 6", "", 120, 0),
+    ] {
+        let s = stats_of(&scene(lens, samples));
+        assert_eq!(count(&s, "primary"), primary, "{lens} {samples}: {s}");
+        assert_eq!(count(&s, "beamed"), beamed, "{lens} {samples}: {s}");
+    }
+}
+
 /// A 2 × 2 light with its own 4 × 4 grid over a floor seen from below it,
 /// and `extra` objects.
 fn grid_light_scene(extra: &str) -> String {
