@@ -479,8 +479,9 @@ impl World {
 
     /// The objects any of the `rays` of one pixel may hit: every
     /// unbounded one and the bounded ones whose boxes meet their beam
-    /// (accel/beam.rs). `None` when there are more than [`Blockers::MAX`]
-    /// or the rays make no beam: they go through the tree then.
+    /// (accel/beam.rs). `None` when there are more than [`Blockers::MAX`],
+    /// or only one bounded object (whose box the tree tests at once), or
+    /// the rays make no beam: they go through the tree then.
     pub fn beam_candidates(&self, rays: &beam::RayFamily) -> Option<Blockers> {
         let mut b = Blockers::default();
         for i in 0..self.unbounded.len() {
@@ -488,8 +489,11 @@ impl World {
                 return None;
             }
         }
-        if self.bounded.is_empty() {
-            return Some(b);
+        match self.bounded.len() {
+            0 => return Some(b),
+            // The tree's walk is one box test: nothing to save.
+            1 => return None,
+            _ => {}
         }
         let beam = beam::Beam::new(rays, &self.bounded_box)?;
         let keep = |i: u32| !beam.may_meet(&self.boxes[i as usize]) || b.push(i);
@@ -688,6 +692,55 @@ mod tests {
         let floor = World::build(vec![Box::new(Plane::new(DVec3::Y, 0.0, 0))]);
         let f = beam::tests::family(DVec3::new(0.0, 2.0, 5.0), -DVec3::Z, 0.1, 5.0);
         assert_eq!(floor.beam_candidates(&f).map(|b| b.len()), Some(1));
+    }
+
+    #[test]
+    fn a_lights_blockers_over_a_pixels_hits_decide_its_shadow_rays() {
+        let _watchdog = crate::watchdog::start();
+        let mut rnd = beam::tests::rng(0x5ad0_77e5);
+        let balls: Vec<(DVec3, f64)> = (0..40)
+            .map(|_| {
+                let c = DVec3::new(rnd() * 10.0 - 5.0, rnd() * 4.0, rnd() * 10.0 - 5.0);
+                (c, 0.2 + 0.5 * rnd())
+            })
+            .collect();
+        for accel in [Accel::KdTree, Accel::Bvh] {
+            let mut objects: Vec<Box<dyn Shape>> = balls
+                .iter()
+                .enumerate()
+                .map(|(i, &(c, r))| Box::new(Sphere::new(c, r, i as u32)) as Box<dyn Shape>)
+                .collect();
+            objects.push(Box::new(Plane::new(DVec3::Y, -0.5, 999)));
+            let world = World::build_with(objects, accel);
+            let (mut used, mut blocked, mut clear) = (0, 0, 0);
+            for _ in 0..300 {
+                // A pixel's hits: a small box on or over the floor.
+                let c = DVec3::new(rnd() * 10.0 - 5.0, rnd() * 3.0 - 0.5, rnd() * 10.0 - 5.0);
+                let points = Aabb::new(c, c + DVec3::new(rnd(), rnd(), rnd()) * 0.3);
+                let light = DVec3::new(rnd() * 10.0 - 5.0, 7.0, rnd() * 10.0 - 5.0);
+                let Some(mut b) =
+                    Shaft::towards_box(light, &points).and_then(|s| world.blockers(&s))
+                else {
+                    continue;
+                };
+                used += 1;
+                for _ in 0..16 {
+                    let p =
+                        points.min + (points.max - points.min) * DVec3::new(rnd(), rnd(), rnd());
+                    let d = light - p;
+                    let (ray, reach) = (Ray::new(p, d.normalize()), d.length() * (1.0 - 1e-4));
+                    let want = world.occludes(&ray, 0.0, reach);
+                    assert_eq!(world.occludes_among(&mut b, &ray, 0.0, reach), want);
+                    if want {
+                        blocked += 1;
+                    } else {
+                        clear += 1;
+                    }
+                }
+            }
+            assert!(used > 250, "{used}");
+            assert!(blocked > 300 && clear > 1000, "{blocked} {clear}");
+        }
     }
 
     fn blockers_decide_every_ray(world: &World, rnd: &mut impl FnMut() -> f64) {

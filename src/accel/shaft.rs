@@ -101,6 +101,101 @@ impl Shaft {
         })
     }
 
+    /// A pyramid from `apex` (a point light) that holds the box `points`
+    /// (the shading points of a pixel's samples), so every shadow ray from
+    /// one of them to the light lies inside it. Its sides pass through the
+    /// least and greatest slopes of the box's corners seen from the apex
+    /// (a ratio of linear functions is greatest over a box at a corner),
+    /// its base a little beyond the farthest corner. `None` when the apex
+    /// is not clearly outside the box on one side.
+    pub fn towards_box(apex: DVec3, points: &Aabb) -> Option<Shaft> {
+        if points.is_empty() || !points.is_finite() {
+            return None;
+        }
+        let l = (points.centre() - apex).try_normalize()?;
+        let (r, u) = l.any_orthonormal_pair();
+        let (mut lo, mut hi, mut depth) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2], 0.0f64);
+        for k in 0..8 {
+            let c = DVec3::new(
+                if k & 1 == 0 {
+                    points.min.x
+                } else {
+                    points.max.x
+                },
+                if k & 2 == 0 {
+                    points.min.y
+                } else {
+                    points.max.y
+                },
+                if k & 4 == 0 {
+                    points.min.z
+                } else {
+                    points.max.z
+                },
+            ) - apex;
+            let z = c.dot(l);
+            if z.is_nan() || z <= 1e-6 * c.length() {
+                return None;
+            }
+            let slope = [c.dot(r) / z, c.dot(u) / z];
+            for a in 0..2 {
+                lo[a] = lo[a].min(slope[a]);
+                hi[a] = hi[a].max(slope[a]);
+            }
+            depth = depth.max(z);
+        }
+        // Never without area (points all along one line from the apex).
+        for a in 0..2 {
+            let pad = 1e-9 * (1.0 + lo[a].abs().max(hi[a].abs()));
+            (lo[a], hi[a]) = (lo[a] - pad, hi[a] + pad);
+        }
+        // The side through the apex where x·axis = k·z, outside beyond it,
+        // and the base a little past the farthest corner. (Built here
+        // rather than by `new`: this runs once a pixel, and the planes
+        // come straight from the slopes.)
+        let side = |axis: DVec3, k: f64| {
+            let n = axis - k * l;
+            (n, n.dot(apex))
+        };
+        let far = depth * 1.001;
+        let planes = [
+            side(r, hi[0]),
+            side(-r, -lo[0]),
+            side(u, hi[1]),
+            side(-u, -lo[1]),
+            (l, l.dot(apex) + far),
+        ];
+        let at = |a: f64, b: f64| apex + far * (l + a * r + b * u);
+        let vertices = [
+            apex,
+            at(lo[0], lo[1]),
+            at(hi[0], lo[1]),
+            at(hi[0], hi[1]),
+            at(lo[0], hi[1]),
+        ];
+        let scale = vertices
+            .iter()
+            .fold(0.0f64, |m, v| m.max(v.abs().max_element()))
+            .max(f64::MIN_POSITIVE);
+        let margins = planes.map(|(n, _)| MARGIN * scale * (n.x.abs() + n.y.abs() + n.z.abs()));
+        if !scale.is_finite() || planes.iter().any(|(n, d)| !n.is_finite() || !d.is_finite()) {
+            return None;
+        }
+        let pad = DVec3::splat(MARGIN * scale);
+        let bounds = vertices[1..]
+            .iter()
+            .fold(Aabb::new(apex, apex), |b, v| b.grow(*v));
+        Some(Shaft {
+            planes,
+            margins,
+            bounds: Aabb {
+                min: bounds.min - pad,
+                max: bounds.max + pad,
+            },
+            vertices,
+        })
+    }
+
     /// The pyramid's apex and the four corners of its base.
     pub fn vertices(&self) -> [DVec3; 5] {
         self.vertices
@@ -145,6 +240,7 @@ impl Shaft {
 #[cfg(test)]
 pub(super) mod tests {
     use super::*;
+    use crate::geometry::Ray;
 
     fn unit_box(c: DVec3, r: f64) -> Aabb {
         Aabb::new(c - DVec3::splat(r), c + DVec3::splat(r))
@@ -303,5 +399,64 @@ pub(super) mod tests {
         let corners = light_square();
         assert!(Shaft::new(DVec3::new(5.0, 6.0, 0.0), corners).is_none());
         assert!(Shaft::new(DVec3::new(5.0, 6.0, 0.0), [corners[0]; 4]).is_none());
+    }
+
+    #[test]
+    fn a_lights_pyramid_over_a_box_holds_every_shadow_ray_from_it() {
+        let _watchdog = crate::watchdog::start();
+        let mut r = crate::accel::beam::tests::rng(0x11_9a7e);
+        let (mut met, mut missed, mut rejected) = (0, 0, 0);
+        for _ in 0..60 {
+            let c = DVec3::new(r(), r(), r()) * 6.0 - 3.0;
+            let size = DVec3::new(r(), r(), r()) * 0.8;
+            let points = Aabb::new(c, c + size);
+            let light = DVec3::new(r() * 10.0 - 5.0, 6.0 + 3.0 * r(), r() * 10.0 - 5.0);
+            let s = Shaft::towards_box(light, &points).unwrap();
+            // Shadow rays from the box's corners and inside it to the
+            // light, stopping short of it as the renderer's do.
+            let rays: Vec<(Ray, f64)> = (0..200)
+                .map(|k| {
+                    let mut pick = |bit: u32| if k < 8 { ((k >> bit) & 1) as f64 } else { r() };
+                    let at = DVec3::new(pick(0), pick(1), pick(2));
+                    let p = points.min + (points.max - points.min) * at;
+                    let d = light - p;
+                    (Ray::new(p, d.normalize()), d.length() * (1.0 - 1e-4))
+                })
+                .collect();
+            for _ in 0..100 {
+                // Near a point of one of the rays.
+                let (ray, reach) = rays[(r() * rays.len() as f64) as usize];
+                let q = ray.at(r() * reach) + (DVec3::new(r(), r(), r()) - 0.5) * 1.6;
+                let b = Aabb::new(q, q + DVec3::splat(0.05 + 0.2 * r()));
+                if rays
+                    .iter()
+                    .any(|(ray, reach)| b.clip(ray, 0.0, *reach).is_some())
+                {
+                    met += 1;
+                    assert!(s.may_meet(&b), "{b:?} {points:?} {light}");
+                } else {
+                    missed += 1;
+                    rejected += !s.may_meet(&b) as u32;
+                }
+            }
+            // Beyond the light, and behind the box as the light sees it.
+            let beyond = light + (light - c) * 0.5;
+            assert!(!s.may_meet(&Aabb::new(beyond, beyond + DVec3::splat(0.1))));
+            let behind = c - (light - c).normalize() * 3.0;
+            assert!(!s.may_meet(&Aabb::new(behind, behind + DVec3::splat(0.1))));
+        }
+        assert!(
+            met > 300 && rejected as f64 > 0.8 * missed as f64,
+            "{met} {rejected} {missed}"
+        );
+        // A light inside the box, or no box: no pyramid.
+        let b = Aabb::new(DVec3::ZERO, DVec3::ONE);
+        assert!(Shaft::towards_box(DVec3::splat(0.5), &b).is_none());
+        assert!(Shaft::towards_box(DVec3::splat(5.0), &Aabb::EMPTY).is_none());
+        // One point: a thin pyramid still, holding it.
+        let p = Aabb::new(DVec3::ONE, DVec3::ONE);
+        let s = Shaft::towards_box(DVec3::new(3.0, 9.0, 1.0), &p).unwrap();
+        assert!(s.may_meet(&Aabb::new(DVec3::splat(0.99), DVec3::splat(1.01))));
+        assert!(!s.may_meet(&Aabb::new(DVec3::splat(1.2), DVec3::splat(1.3))));
     }
 }

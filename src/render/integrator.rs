@@ -21,9 +21,11 @@ use super::material::{dielectric, emissive, glossy, matte, mirror, phong};
 use super::sampler::SampleStream;
 use super::stats::RayCounts;
 use crate::accel::{Blockers, Shaft, World};
+use crate::geometry::Aabb;
 use crate::geometry::rounding::SHADOW_EPSILON;
 use crate::geometry::{DVec3, Ray, offset_along_unit, offset_ray_origin, valid_reflection_normal};
-use crate::scene::{AreaLight, Colour, LightSurface, Material, Scene, pattern};
+use crate::scene::{AreaLight, Colour, LightKind, LightSurface, Material, Scene, pattern};
+use crate::shapes::{Hit, Shape};
 
 /// A shadow ray through glass stops being followed after this many
 /// surfaces (it is then taken as blocked): bounded time for any scene.
@@ -109,39 +111,86 @@ impl<'a> Integrator<'a> {
         } else {
             path.counts.reflected += 1;
         }
-        self.trace_far(ray, depth, path, None).0
+        self.trace_far(ray, depth, path).0
     }
 
-    /// [`Integrator::trace`] for a camera ray inside the beam `among` was
-    /// found for ([`World::beam_candidates`]): its first hit is looked for
-    /// among those objects alone.
-    pub fn trace_camera(&self, ray: &Ray, path: &mut Path, among: Option<&Blockers>) -> Colour {
+    /// A camera ray's first hit, written into `hit`: among the objects of
+    /// its pixel's beam when `among` lists them
+    /// ([`World::beam_candidates`]), else through the tree.
+    pub fn first_hit(
+        &self,
+        ray: &Ray,
+        among: Option<&Blockers>,
+        hit: &mut Hit,
+    ) -> Option<&'a dyn Shape> {
+        match among {
+            Some(c) => self.world.nearest_among(c, ray, 0.0, f64::INFINITY, hit),
+            None => self.world.nearest_into(ray, 0.0, f64::INFINITY, hit),
+        }
+    }
+
+    /// The colour a camera ray brings from the first hit
+    /// [`Integrator::first_hit`] found (`None`: it met nothing), as
+    /// [`Integrator::trace`] would give it. `lights` may hold, per light
+    /// of the scene, the objects that may block a shadow ray from any of
+    /// the pixel's first hits to it ([`Integrator::light_blockers`]).
+    pub fn shade_first(
+        &self,
+        ray: &Ray,
+        found: Option<(&mut Hit, &dyn Shape)>,
+        beamed: bool,
+        lights: &[Option<Blockers>],
+        path: &mut Path,
+    ) -> Colour {
         path.counts.primary += 1;
-        path.counts.beamed += among.is_some() as u64;
-        self.trace_far(ray, 0, path, among).0
+        path.counts.beamed += beamed as u64;
+        match found {
+            Some((hit, object)) => self.shade_hit(ray, hit, object, 0, path, lights).0,
+            None => self.miss(ray.dir),
+        }
+    }
+
+    /// Per light of the scene, the objects that may block a shadow ray
+    /// from a point of `points` to it (a pyramid from the light over the
+    /// box, accel/shaft.rs), or `None` for that light's rays to go through
+    /// the tree: a parallel light, a light inside or beside the box, or too
+    /// many objects in the way.
+    pub fn light_blockers(&self, points: &Aabb, out: &mut Vec<Option<Blockers>>) {
+        out.clear();
+        out.extend(self.scene.lights.iter().map(|l| {
+            match l.kind {
+                LightKind::Parallel { .. } => None,
+                _ => self
+                    .world
+                    .blockers(&Shaft::towards_box(l.position, points)?),
+            }
+        }));
     }
 
     /// [`Integrator::trace`] and how far the ray went before its hit (∞ on
     /// a miss), for Beer absorption along it; the caller counts the ray.
-    fn trace_far(
-        &self,
-        ray: &Ray,
-        depth: u32,
-        path: &mut Path,
-        among: Option<&Blockers>,
-    ) -> (Colour, f64) {
-        let mut hit = crate::shapes::Hit::default();
-        let found = match among {
-            Some(c) => self
-                .world
-                .nearest_among(c, ray, 0.0, f64::INFINITY, &mut hit),
-            None => self.world.nearest_into(ray, 0.0, f64::INFINITY, &mut hit),
-        };
-        let Some(object) = found else {
+    fn trace_far(&self, ray: &Ray, depth: u32, path: &mut Path) -> (Colour, f64) {
+        let mut hit = Hit::default();
+        let Some(object) = self.world.nearest_into(ray, 0.0, f64::INFINITY, &mut hit) else {
             return (self.miss(ray.dir), f64::INFINITY);
         };
+        self.shade_hit(ray, &mut hit, object, depth, path, &[])
+    }
+
+    /// [`Integrator::trace_far`] from the hit on `object`; `lights` as in
+    /// [`Integrator::shade_first`] (empty: every shadow ray through the
+    /// tree).
+    fn shade_hit(
+        &self,
+        ray: &Ray,
+        hit: &mut Hit,
+        object: &dyn Shape,
+        depth: u32,
+        path: &mut Path,
+        lights: &[Option<Blockers>],
+    ) -> (Colour, f64) {
         // Material patterns choose here; (u, v) is computed if read.
-        let material = pattern::resolve(&self.scene.materials, &mut hit, |h| object.uv(h));
+        let material = pattern::resolve(&self.scene.materials, hit, |h| object.uv(h));
         // The geometric normal decides the side; the shading normal is kept
         // in its hemisphere.
         let mut ng = hit.geo_normal.normalize_or_zero();
@@ -158,7 +207,7 @@ impl<'a> Integrator<'a> {
             if n.dot(ng) < 0.0 { -n } else { n }
         };
         if let Some(bumps) = &material.normal {
-            n = bumps.perturb_mapped(n, ng, hit.local, |g| object.normal_to_world(&hit, g));
+            n = bumps.perturb_mapped(n, ng, hit.local, |g| object.normal_to_world(hit, g));
         }
         let (p, p_err) = (hit.point, hit.p_error);
         // What `offset_ray_origin` would make of ng, once for every ray
@@ -174,7 +223,7 @@ impl<'a> Integrator<'a> {
             lifted: offset_along_unit(p, p_err, ng_offset, ng),
             front,
         };
-        let c = self.shade(material, &hit, &at, depth, path);
+        let c = self.shade(material, hit, &at, depth, path, lights);
         (c, hit.t)
     }
 
@@ -194,10 +243,11 @@ impl<'a> Integrator<'a> {
         at: &Shading,
         depth: u32,
         path: &mut Path,
+        lights: &[Option<Blockers>],
     ) -> Colour {
         let deeper = depth < self.scene.settings.max_depth;
         let mut out = if matte::reflects(m) || m.phong.is_some() {
-            self.local(m, hit, at, path)
+            self.local(m, hit, at, path, lights)
         } else {
             Colour::ZERO
         };
@@ -241,6 +291,7 @@ impl<'a> Integrator<'a> {
         hit: &crate::shapes::Hit,
         at: &Shading,
         path: &mut Path,
+        lights: &[Option<Blockers>],
     ) -> Colour {
         let mut ambient = self.scene.ambient;
         if let Some(o) = &self.scene.occlusion
@@ -277,9 +328,10 @@ impl<'a> Integrator<'a> {
                 highlight += phong::highlight(ph, at.n, v, s.dir, e);
             }
         };
-        for l in &self.scene.lights {
+        for (i, l) in self.scene.lights.iter().enumerate() {
             if let Some(s) = light::sample(l, at.lifted) {
-                add(s, path, None);
+                let mut blockers = lights.get(i).copied().flatten();
+                add(s, path, blockers.as_mut());
             }
         }
         for l in &self.scene.area_lights {
@@ -375,7 +427,7 @@ impl<'a> Integrator<'a> {
         // The weights are POV-Ray's: F and 1 − F (absorption left out).
         let reflected = self.weighted(path, split.kr, |path| {
             path.counts.reflected += 1;
-            self.trace_far(&Self::spawn(at, reflect_dir), depth + 1, path, None)
+            self.trace_far(&Self::spawn(at, reflect_dir), depth + 1, path)
         });
         let mut out = match reflected {
             Some((lr, sr)) => split.kr * dielectric::absorb(&side.filter_here, sr) * lr,
@@ -385,7 +437,7 @@ impl<'a> Integrator<'a> {
             && let Some((lt, st)) = self.weighted(path, 1.0 - split.kr, |path| {
                 // The refracted ray leaves on the far side.
                 path.counts.refracted += 1;
-                self.trace_far(&Self::spawn(at, t), depth + 1, path, None)
+                self.trace_far(&Self::spawn(at, t), depth + 1, path)
             })
         {
             let kt = (1.0 - split.kr) / (side.eta * side.eta);

@@ -27,6 +27,7 @@ pub use stats::{RayCounts, RenderStats};
 
 use crate::accel::World;
 use crate::scene::{Colour, Scene};
+use crate::shapes::{Hit, Shape};
 use camera::CameraRays;
 use integrator::{Integrator, Path};
 use rayon::prelude::*;
@@ -56,6 +57,10 @@ const LENS_DIM: u32 = 2;
 /// through one beam (accel/beam.rs): with fewer, building it costs more
 /// than the walks it saves.
 const BEAM_RAYS: usize = 4;
+/// With at least this many, the pixel's shadow rays to each light are
+/// tested only against what lies between the light and the pixel's hits:
+/// finding that costs a few hundred instructions more a pixel.
+const LIGHT_SHAFT_RAYS: usize = 16;
 
 /// A rectangle of the picture, in the full picture's pixel coordinates.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -169,11 +174,15 @@ pub fn render_region(
 
 /// A pixel's buffers, kept between pixels of a row.
 #[derive(Default)]
-struct Scratch {
+struct Scratch<'w> {
     spots: Vec<(f64, f64)>,
     lens: Vec<(f64, f64)>,
-    /// Each sample's camera ray.
+    /// Each sample's camera ray, and its first hit and the object hit.
     rays: Vec<crate::geometry::Ray>,
+    hits: Vec<Hit>,
+    objects: Vec<Option<&'w dyn Shape>>,
+    /// Per light, what may block the shadow rays from the pixel's hits.
+    lights: Vec<Option<crate::accel::Blockers>>,
     /// Each sample's colour, for the adaptive test.
     colours: Vec<Colour>,
 }
@@ -184,14 +193,14 @@ struct PixelRenderer<'a> {
     integrator: &'a Integrator<'a>,
 }
 
-impl PixelRenderer<'_> {
+impl<'a> PixelRenderer<'a> {
     /// The mean of `sampler`'s samples of `pixel` (each one kept in
     /// `scratch.colours`).
     fn render(
         &self,
         pixel: Pixel,
         sampler: &PixelSampler,
-        scratch: &mut Scratch,
+        scratch: &mut Scratch<'a>,
         counts: &mut stats::RayCounts,
     ) -> Colour {
         sampler.pattern(pixel, PIXEL_DIM, &mut scratch.spots);
@@ -210,25 +219,71 @@ impl PixelRenderer<'_> {
                 let q = scratch.lens.get(s).copied().unwrap_or((0.5, 0.5));
                 self.camera.ray(pixel.x as f64 + dx, pixel.y as f64 + dy, q)
             }));
-        // Many rays a pixel: their first hits are looked for among the few
-        // objects their beam meets, not by a walk of the tree each.
-        let among = if scratch.rays.len() >= BEAM_RAYS {
-            let family = self.camera.family(pixel);
-            self.integrator.world().beam_candidates(&family)
-        } else {
-            None
-        };
         let key = PixelKey::new(pixel, sampler.seed);
         let mut sum = Colour::ZERO;
-        for (s, ray) in scratch.rays.iter().enumerate() {
-            let mut path = Path {
+        fn path(key: PixelKey, s: usize, counts: &mut stats::RayCounts) -> Path<'_> {
+            Path {
                 stream: SampleStream::new(key, s as u32),
                 counts,
                 weight: 1.0,
-            };
-            let c = self.integrator.trace_camera(ray, &mut path, among.as_ref());
-            scratch.colours.push(c);
-            sum += c;
+            }
+        }
+        let n = scratch.rays.len();
+        // Many rays a pixel: their first hits are looked for among the few
+        // objects their beam meets, not by a walk of the tree each.
+        let among = (n >= BEAM_RAYS)
+            .then(|| {
+                self.integrator
+                    .world()
+                    .beam_candidates(&self.camera.family(pixel))
+            })
+            .flatten();
+        if n < LIGHT_SHAFT_RAYS {
+            for (s, ray) in scratch.rays.iter().enumerate() {
+                let path = &mut path(key, s, counts);
+                let c = if among.is_none() {
+                    self.integrator.trace(ray, 0, path)
+                } else {
+                    let mut hit = Hit::default();
+                    let found = self.integrator.first_hit(ray, among.as_ref(), &mut hit);
+                    let found = found.map(|o| (&mut hit, o));
+                    self.integrator
+                        .shade_first(ray, found, among.is_some(), &[], path)
+                };
+                scratch.colours.push(c);
+                sum += c;
+            }
+        } else {
+            // More still: every first hit is found before any is shaded,
+            // so that the shadow rays to each light need only be tested
+            // against what may lie between the light and those hits.
+            // Each hit is written where it stays (a hit is 160 bytes).
+            scratch.hits.resize(n, Hit::default());
+            scratch.objects.clear();
+            let mut points = crate::geometry::Aabb::EMPTY;
+            for (ray, hit) in scratch.rays.iter().zip(&mut scratch.hits) {
+                let object = self.integrator.first_hit(ray, among.as_ref(), hit);
+                if object.is_some() {
+                    // Wide enough for the shading point's offset too.
+                    let pad = crate::geometry::DVec3::splat(4.0 * hit.p_error.max_element());
+                    points.min = points.min.min(hit.point - pad);
+                    points.max = points.max.max(hit.point + pad);
+                }
+                scratch.objects.push(object);
+            }
+            self.integrator.light_blockers(&points, &mut scratch.lights);
+            for (s, ray) in scratch.rays.iter().enumerate() {
+                let found = scratch.objects[s].map(|o| (&mut scratch.hits[s], o));
+                let c = self.integrator.shade_first(
+                    ray,
+                    found,
+                    among.is_some(),
+                    &scratch.lights,
+                    &mut path(key, s, counts),
+                );
+                scratch.colours.push(c);
+                sum += c;
+            }
         }
         if scratch.rays.len() == 1 {
             sum
