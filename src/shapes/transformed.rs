@@ -40,6 +40,7 @@ impl Transformed {
             .then(|| (t.matrix.w_axis.truncate(), t.inverse.w_axis.truncate()))
     }
 
+    #[inline]
     fn local_ray(&self, ray: &Ray) -> Ray {
         if let Some((_, back)) = self.shift {
             return Ray::new(ray.origin + back, ray.dir);
