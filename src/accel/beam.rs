@@ -77,25 +77,7 @@ impl Beam {
     /// object lies behind the lens.
     pub fn new(f: &RayFamily, objects: &Aabb) -> Option<Beam> {
         let (e, l) = (f.origin, f.forward);
-        let corners = (0..8).map(|k| {
-            DVec3::new(
-                if k & 1 == 0 {
-                    objects.min.x
-                } else {
-                    objects.max.x
-                },
-                if k & 2 == 0 {
-                    objects.min.y
-                } else {
-                    objects.max.y
-                },
-                if k & 4 == 0 {
-                    objects.min.z
-                } else {
-                    objects.max.z
-                },
-            )
-        });
+        let corners = objects.corners().into_iter();
         let far = corners
             .clone()
             .map(|c| (c - e).dot(l))
@@ -148,14 +130,10 @@ impl Beam {
                 bounds = bounds.grow(e + a * r + b * u + depth * l);
             }
         }
-        let pad = DVec3::splat(slack * 4.0);
         Some(Beam {
             planes,
             margins,
-            bounds: Aabb {
-                min: bounds.min - pad,
-                max: bounds.max + pad,
-            },
+            bounds: bounds.padded(slack * 4.0),
         })
     }
 
@@ -165,20 +143,11 @@ impl Beam {
         self.bounds
     }
 
-    /// Whether `b` may meet the beam: false only when it lies outside the
-    /// beam's box or wholly outside one of its planes.
+    /// Whether `b` may meet the beam: false only when it lies wholly
+    /// outside one of its planes (or the beam is empty). The planes alone
+    /// decide: the beam's box only narrows the tree's query.
     pub fn may_meet(&self, b: &Aabb) -> bool {
         if b.is_empty() || self.bounds.is_empty() {
-            return false;
-        }
-        let s = &self.bounds;
-        if b.min.x > s.max.x
-            || b.min.y > s.max.y
-            || b.min.z > s.max.z
-            || b.max.x < s.min.x
-            || b.max.y < s.min.y
-            || b.max.z < s.min.z
-        {
             return false;
         }
         self.planes.iter().zip(self.margins).all(|((n, d), m)| {
@@ -194,7 +163,7 @@ impl Beam {
 }
 
 #[cfg(test)]
-pub(super) mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::geometry::Ray;
 
@@ -234,7 +203,7 @@ pub(super) mod tests {
         Ray::new(start, (target - start).normalize())
     }
 
-    pub(in crate::accel) fn rng(mut s: u64) -> impl FnMut() -> f64 {
+    pub(crate) fn rng(mut s: u64) -> impl FnMut() -> f64 {
         move || {
             s ^= s << 13;
             s ^= s >> 7;
@@ -318,6 +287,23 @@ pub(super) mod tests {
         )));
         // An empty box meets nothing.
         assert!(!beam.may_meet(&Aabb::EMPTY));
+    }
+
+    #[test]
+    fn a_lens_widens_the_beam_by_its_blur_and_no_more() {
+        // A lens of half-width 0.2 focused at depth 5, looking down −z from
+        // the origin; the objects reach depth 10, where a ray is
+        // s·(1 − 2) + p·2: its blur is 0.2 (not 0.2·3), the rectangle's
+        // x ∈ [0.5, 0.65] doubled to [1.0, 1.3]: x ∈ [0.8, 1.5] in all.
+        let f = family(DVec3::ZERO, -DVec3::Z, 0.2, 5.0);
+        let objects = Aabb::new(DVec3::new(-5.0, -5.0, -10.0), DVec3::new(5.0, 5.0, 0.0));
+        let beam = Beam::new(&f, &objects).unwrap();
+        let at =
+            |x0: f64, x1: f64| Aabb::new(DVec3::new(x0, -2.0, -10.0), DVec3::new(x1, -1.8, -9.9));
+        assert!(beam.may_meet(&at(1.45, 1.55)));
+        assert!(!beam.may_meet(&at(1.55, 1.7)), "beyond the blur");
+        assert!(beam.may_meet(&at(0.7, 0.85)));
+        assert!(!beam.may_meet(&at(0.5, 0.75)), "short of the blur");
     }
 
     #[test]

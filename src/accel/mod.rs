@@ -624,21 +624,10 @@ mod tests {
             (s >> 11) as f64 / (1u64 << 53) as f64
         };
         // Small spheres in a 10-wide box above a floor; lights over them.
-        let balls: Vec<(DVec3, f64)> = (0..60)
-            .map(|_| {
-                let c = DVec3::new(rnd() * 10.0 - 5.0, rnd() * 4.0, rnd() * 10.0 - 5.0);
-                (c, 0.1 + 0.3 * rnd())
-            })
-            .collect();
+        let balls = random_balls(60, 0.1, 0.3, &mut rnd);
         // Both indexes find the blockers (each its own box query).
         for accel in [Accel::KdTree, Accel::Bvh] {
-            let mut objects: Vec<Box<dyn Shape>> = balls
-                .iter()
-                .enumerate()
-                .map(|(i, &(c, r))| Box::new(Sphere::new(c, r, i as u32)) as Box<dyn Shape>)
-                .collect();
-            objects.push(Box::new(Plane::new(DVec3::Y, -0.5, 999)));
-            let world = World::build_with(objects, accel);
+            let world = balls_over_a_floor(&balls, accel);
             blockers_decide_every_ray(&world, &mut rnd);
         }
     }
@@ -650,14 +639,8 @@ mod tests {
         // 20 balls (tested in a row for the beam) and 60 (found in the
         // tree), over a floor, seen through a lens from around them.
         for (count, accel) in [(20, Accel::KdTree), (60, Accel::KdTree), (60, Accel::Bvh)] {
-            let mut objects: Vec<Box<dyn Shape>> = (0..count)
-                .map(|i| {
-                    let c = DVec3::new(rnd() * 10.0 - 5.0, rnd() * 4.0, rnd() * 10.0 - 5.0);
-                    Box::new(Sphere::new(c, 0.2 + 0.6 * rnd(), i)) as Box<dyn Shape>
-                })
-                .collect();
-            objects.push(Box::new(Plane::new(DVec3::Y, -0.5, 999)));
-            let world = World::build_with(objects, accel);
+            let balls = random_balls(count, 0.2, 0.6, &mut rnd);
+            let world = balls_over_a_floor(&balls, accel);
             let (mut used, mut few, mut hits, mut misses) = (0, 0, 0, 0);
             for _ in 0..300 {
                 let eye = DVec3::new(rnd() * 24.0 - 12.0, 1.0 + rnd() * 6.0, 14.0);
@@ -688,30 +671,31 @@ mod tests {
             assert!(used > 250 && few > 150, "{count}: {used} {few}");
             assert!(hits > 1000 && misses > 100, "{count}: {hits} {misses}");
         }
-        // No bounded object: the unbounded ones alone.
-        let floor = World::build(vec![Box::new(Plane::new(DVec3::Y, 0.0, 0))]);
+        // No bounded object: the unbounded ones alone. One: the tree, whose
+        // walk is that one box test.
+        let floor = || Box::new(Plane::new(DVec3::Y, 0.0, 0)) as Box<dyn Shape>;
         let f = beam::tests::family(DVec3::new(0.0, 2.0, 5.0), -DVec3::Z, 0.1, 5.0);
-        assert_eq!(floor.beam_candidates(&f).map(|b| b.len()), Some(1));
+        assert_eq!(
+            World::build(vec![floor()])
+                .beam_candidates(&f)
+                .map(|b| b.len()),
+            Some(1)
+        );
+        let ball = Box::new(Sphere::new(DVec3::new(0.0, 1.0, 0.0), 1.0, 0));
+        assert!(
+            World::build(vec![floor(), ball])
+                .beam_candidates(&f)
+                .is_none()
+        );
     }
 
     #[test]
     fn a_lights_blockers_over_a_pixels_hits_decide_its_shadow_rays() {
         let _watchdog = crate::watchdog::start();
         let mut rnd = beam::tests::rng(0x5ad0_77e5);
-        let balls: Vec<(DVec3, f64)> = (0..40)
-            .map(|_| {
-                let c = DVec3::new(rnd() * 10.0 - 5.0, rnd() * 4.0, rnd() * 10.0 - 5.0);
-                (c, 0.2 + 0.5 * rnd())
-            })
-            .collect();
+        let balls = random_balls(40, 0.2, 0.5, &mut rnd);
         for accel in [Accel::KdTree, Accel::Bvh] {
-            let mut objects: Vec<Box<dyn Shape>> = balls
-                .iter()
-                .enumerate()
-                .map(|(i, &(c, r))| Box::new(Sphere::new(c, r, i as u32)) as Box<dyn Shape>)
-                .collect();
-            objects.push(Box::new(Plane::new(DVec3::Y, -0.5, 999)));
-            let world = World::build_with(objects, accel);
+            let world = balls_over_a_floor(&balls, accel);
             let (mut used, mut blocked, mut clear) = (0, 0, 0);
             for _ in 0..300 {
                 // A pixel's hits: a small box on or over the floor.
@@ -741,6 +725,33 @@ mod tests {
             assert!(used > 250, "{used}");
             assert!(blocked > 300 && clear > 1000, "{blocked} {clear}");
         }
+    }
+
+    /// `n` balls (centre, radius) in a 10-wide, 4-high box: radii from
+    /// `r0` to `r0 + dr`.
+    fn random_balls(
+        n: usize,
+        r0: f64,
+        dr: f64,
+        rnd: &mut impl FnMut() -> f64,
+    ) -> Vec<(DVec3, f64)> {
+        (0..n)
+            .map(|_| {
+                let c = DVec3::new(rnd() * 10.0 - 5.0, rnd() * 4.0, rnd() * 10.0 - 5.0);
+                (c, r0 + dr * rnd())
+            })
+            .collect()
+    }
+
+    /// Spheres (centre, radius) over the floor y = −0.5, indexed by `accel`.
+    fn balls_over_a_floor(balls: &[(DVec3, f64)], accel: Accel) -> World {
+        let mut objects: Vec<Box<dyn Shape>> = balls
+            .iter()
+            .enumerate()
+            .map(|(i, &(c, r))| Box::new(Sphere::new(c, r, i as u32)) as Box<dyn Shape>)
+            .collect();
+        objects.push(Box::new(Plane::new(DVec3::Y, -0.5, 999)));
+        World::build_with(objects, accel)
     }
 
     fn blockers_decide_every_ray(world: &World, rnd: &mut impl FnMut() -> f64) {

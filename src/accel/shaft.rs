@@ -88,11 +88,7 @@ impl Shaft {
         for c in &base[1..] {
             bounds = bounds.grow(*c);
         }
-        let pad = DVec3::splat(MARGIN * scale);
-        bounds = Aabb {
-            min: bounds.min - pad,
-            max: bounds.max + pad,
-        };
+        bounds = bounds.padded(MARGIN * scale);
         Some(Shaft {
             planes,
             margins,
@@ -115,24 +111,8 @@ impl Shaft {
         let l = (points.centre() - apex).try_normalize()?;
         let (r, u) = l.any_orthonormal_pair();
         let (mut lo, mut hi, mut depth) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2], 0.0f64);
-        for k in 0..8 {
-            let c = DVec3::new(
-                if k & 1 == 0 {
-                    points.min.x
-                } else {
-                    points.max.x
-                },
-                if k & 2 == 0 {
-                    points.min.y
-                } else {
-                    points.max.y
-                },
-                if k & 4 == 0 {
-                    points.min.z
-                } else {
-                    points.max.z
-                },
-            ) - apex;
+        for corner in points.corners() {
+            let c = corner - apex;
             let z = c.dot(l);
             if z.is_nan() || z <= 1e-6 * c.length() {
                 return None;
@@ -143,11 +123,6 @@ impl Shaft {
                 hi[a] = hi[a].max(slope[a]);
             }
             depth = depth.max(z);
-        }
-        // Never without area (points all along one line from the apex).
-        for a in 0..2 {
-            let pad = 1e-9 * (1.0 + lo[a].abs().max(hi[a].abs()));
-            (lo[a], hi[a]) = (lo[a] - pad, hi[a] + pad);
         }
         // The side through the apex where x·axis = k·z, outside beyond it,
         // and the base a little past the farthest corner. (Built here
@@ -177,21 +152,16 @@ impl Shaft {
             .iter()
             .fold(0.0f64, |m, v| m.max(v.abs().max_element()))
             .max(f64::MIN_POSITIVE);
+        // (All finite: every corner lies ahead of the apex by 10⁻⁶ of its
+        // distance at least, so no slope is infinite.)
         let margins = planes.map(|(n, _)| MARGIN * scale * (n.x.abs() + n.y.abs() + n.z.abs()));
-        if !scale.is_finite() || planes.iter().any(|(n, d)| !n.is_finite() || !d.is_finite()) {
-            return None;
-        }
-        let pad = DVec3::splat(MARGIN * scale);
         let bounds = vertices[1..]
             .iter()
             .fold(Aabb::new(apex, apex), |b, v| b.grow(*v));
         Some(Shaft {
             planes,
             margins,
-            bounds: Aabb {
-                min: bounds.min - pad,
-                max: bounds.max + pad,
-            },
+            bounds: bounds.padded(MARGIN * scale),
             vertices,
         })
     }
@@ -439,6 +409,30 @@ pub(super) mod tests {
                     rejected += !s.may_meet(&b) as u32;
                 }
             }
+            // Its box holds the points and the light, and not much more.
+            let (lo, hi) = (s.bounds().min, s.bounds().max);
+            for p in points.corners().into_iter().chain([light]) {
+                assert!(
+                    p.cmpge(lo).all() && p.cmple(hi).all(),
+                    "{p} {:?}",
+                    s.bounds()
+                );
+            }
+            let hull = points.grow(light);
+            let slack = DVec3::splat(hull.extent().max_element() * 0.5);
+            assert!(
+                lo.cmpge(hull.min - slack).all() && hi.cmple(hull.max + slack).all(),
+                "{:?} {hull:?}",
+                s.bounds()
+            );
+            // Beside the box at its own height, on each side: no shadow
+            // ray from it comes near.
+            let mid = points.centre();
+            for side in [DVec3::X, -DVec3::X, DVec3::Z, -DVec3::Z] {
+                let q = mid + side * 1.5;
+                let b = Aabb::new(q - DVec3::splat(0.1), q + DVec3::splat(0.1));
+                assert!(!s.may_meet(&b), "{side} {points:?} {light}");
+            }
             // Beyond the light, and behind the box as the light sees it.
             let beyond = light + (light - c) * 0.5;
             assert!(!s.may_meet(&Aabb::new(beyond, beyond + DVec3::splat(0.1))));
@@ -453,7 +447,45 @@ pub(super) mod tests {
         let b = Aabb::new(DVec3::ZERO, DVec3::ONE);
         assert!(Shaft::towards_box(DVec3::splat(0.5), &b).is_none());
         assert!(Shaft::towards_box(DVec3::splat(5.0), &Aabb::EMPTY).is_none());
-        // One point: a thin pyramid still, holding it.
+        let inverted = Aabb {
+            min: DVec3::ONE,
+            max: DVec3::ZERO,
+        };
+        assert!(Shaft::towards_box(DVec3::splat(5.0), &inverted).is_none());
+        // A light beside a long box, some of whose corners lie behind it
+        // as it looks at the box's centre: no pyramid holds the box.
+        let long = Aabb::new(DVec3::new(-10.0, 0.0, 0.0), DVec3::new(10.0, 1.0, 1.0));
+        assert!(Shaft::towards_box(DVec3::new(0.5, 0.5, 2.0), &long).is_none());
+        // Hits on a floor, the light straight above: a lid just over the
+        // floor, where every ray from it passes, meets the pyramid (its
+        // base lies beyond the farthest corner, not short of it).
+        let floor = Aabb::new(DVec3::new(-0.5, 0.0, -0.5), DVec3::new(0.5, 0.0, 0.5));
+        let s = Shaft::towards_box(DVec3::new(0.0, 10.0, 0.0), &floor).unwrap();
+        let lid = Aabb::new(
+            DVec3::new(-0.05, 0.001, -0.05),
+            DVec3::new(0.05, 0.004, 0.05),
+        );
+        assert!(s.may_meet(&lid));
+        // A light close beside a box, seeing it askew (the slopes of its
+        // corners far from symmetric): each corner of the base lies on two
+        // sides and inside the other two.
+        let b = Aabb::new(DVec3::ZERO, DVec3::ONE);
+        let s = Shaft::towards_box(DVec3::new(2.2, 2.0, -0.3), &b).unwrap();
+        for v in &s.vertices()[1..] {
+            let on = s
+                .planes
+                .iter()
+                .zip(s.margins)
+                .take(4)
+                .filter(|((n, d), m)| {
+                    let e = n.dot(*v) - d;
+                    assert!(e <= *m, "{v} outside by {e}");
+                    e.abs() <= *m
+                })
+                .count();
+            assert_eq!(on, 2, "{v}");
+        }
+        // One point: a pyramid with no width, holding it all the same.
         let p = Aabb::new(DVec3::ONE, DVec3::ONE);
         let s = Shaft::towards_box(DVec3::new(3.0, 9.0, 1.0), &p).unwrap();
         assert!(s.may_meet(&Aabb::new(DVec3::splat(0.99), DVec3::splat(1.01))));

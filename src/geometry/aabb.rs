@@ -48,6 +48,15 @@ impl Aabb {
         }
     }
 
+    /// The box widened by `pad` on every side.
+    pub fn padded(&self, pad: f64) -> Aabb {
+        let pad = DVec3::splat(pad);
+        Aabb {
+            min: self.min - pad,
+            max: self.max + pad,
+        }
+    }
+
     pub fn grow(&self, p: DVec3) -> Aabb {
         Aabb {
             min: self.min.min(p),
@@ -104,22 +113,41 @@ impl Aabb {
                 Aabb::INFINITE
             };
         }
-        let mut out = Aabb::EMPTY;
-        for i in 0..8 {
-            let c = DVec3::new(
+        self.corners()
+            .into_iter()
+            .fold(Aabb::EMPTY, |out, c| out.grow(xf.point(c)))
+    }
+
+    /// The eight corners: bit 0 of the index picks max over min in x,
+    /// bit 1 in y, bit 2 in z.
+    pub fn corners(&self) -> [DVec3; 8] {
+        std::array::from_fn(|i| {
+            DVec3::new(
                 if i & 1 == 0 { self.min.x } else { self.max.x },
                 if i & 2 == 0 { self.min.y } else { self.max.y },
                 if i & 4 == 0 { self.min.z } else { self.max.z },
-            );
-            out = out.grow(xf.point(c));
-        }
-        out
+            )
+        })
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_padded_box_and_the_corners_of_one() {
+        let b = Aabb::new(DVec3::new(1.0, -2.0, 3.0), DVec3::new(4.0, 5.0, 6.0));
+        let p = b.padded(0.5);
+        assert_eq!(p.min, DVec3::new(0.5, -2.5, 2.5));
+        assert_eq!(p.max, DVec3::new(4.5, 5.5, 6.5));
+        let c = b.corners();
+        assert_eq!(c[0], b.min);
+        assert_eq!(c[7], b.max);
+        assert_eq!(c[1], DVec3::new(4.0, -2.0, 3.0));
+        assert_eq!(c[2], DVec3::new(1.0, 5.0, 3.0));
+        assert_eq!(c[4], DVec3::new(1.0, -2.0, 6.0));
+    }
 
     #[test]
     fn clip_hits_and_misses() {

@@ -69,6 +69,69 @@ mod tests {
     use crate::geometry::DVec3;
 
     #[test]
+    fn every_ray_of_a_pixel_belongs_to_the_family_its_camera_gives() {
+        // Each ray starts on the lens's square and passes through the
+        // pixel's rectangle at the family's depth: what the beam bounds.
+        let mut rnd = crate::accel::beam::tests::rng(0x2468_ace1);
+        let lensed = Camera {
+            position: DVec3::new(1.0, 2.0, 7.0),
+            look_at: DVec3::new(-0.5, 0.3, 0.0),
+            lens: Some(ThinLens {
+                aperture: 0.3,
+                focus: 6.0,
+            }),
+            ..Camera::default()
+        };
+        let pinhole = Camera {
+            lens: None,
+            ..lensed.clone()
+        };
+        // A view plane at distance 2 (not 1): the rectangle at the focus
+        // scales by focus/distance.
+        let far_plane = Camera {
+            projection: crate::scene::Projection::ViewPlane {
+                distance: 2.0,
+                width: 1.5,
+                height: 1.2,
+            },
+            ..lensed.clone()
+        };
+        let far_pinhole = Camera {
+            lens: None,
+            ..far_plane.clone()
+        };
+        for cam in [lensed, pinhole, far_plane, far_pinhole] {
+            let rays = CameraRays::new(&cam, 40, 30).unwrap();
+            for (x, y) in [(0, 0), (39, 29), (17, 5), (3, 22)] {
+                let f = rays.family(Pixel { x, y });
+                let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+                for _ in 0..200 {
+                    let (dx, dy) = (rnd(), rnd());
+                    let r = rays.ray(x as f64 + dx, y as f64 + dy, (rnd(), rnd()));
+                    let o = r.origin - f.origin;
+                    assert!(o.dot(f.forward).abs() < 1e-12);
+                    assert!(o.dot(f.right).abs() <= f.lens + 1e-12);
+                    assert!(o.dot(f.up).abs() <= f.lens + 1e-12);
+                    let p = r.at((f.depth - o.dot(f.forward)) / r.dir.dot(f.forward)) - f.origin;
+                    for (k, axis) in [f.right, f.up].into_iter().enumerate() {
+                        let v = p.dot(axis);
+                        assert!(v >= f.lo[k] - 1e-9 && v <= f.hi[k] + 1e-9, "{k}: {v} {f:?}");
+                        lo[k] = lo[k].min(v);
+                        hi[k] = hi[k].max(v);
+                    }
+                }
+                // And the rectangle is the pixel's, not more: the rays
+                // come near each of its sides.
+                for k in 0..2 {
+                    let size = f.hi[k] - f.lo[k];
+                    assert!(size > 0.0);
+                    assert!(lo[k] - f.lo[k] < 0.05 * size && f.hi[k] - hi[k] < 0.05 * size);
+                }
+            }
+        }
+    }
+
+    #[test]
     fn thin_lens_blurs_by_the_circle_of_confusion() {
         let (a, f) = (0.2, 5.0);
         let cam = Camera {

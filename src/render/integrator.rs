@@ -582,3 +582,57 @@ impl Shading {
         mirror::reflect(self.d, valid_reflection_normal(self.ng, -self.d, self.n))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::Light;
+    use crate::shapes::Sphere;
+
+    #[test]
+    fn a_pixels_lights_list_what_lies_between_each_and_its_hits() {
+        let scene = Scene {
+            lights: vec![
+                Light::point(DVec3::new(0.0, 10.0, 0.0), Colour::ONE),
+                Light {
+                    position: DVec3::ZERO,
+                    colour: Colour::ONE,
+                    kind: LightKind::Parallel {
+                        direction: DVec3::Y,
+                    },
+                },
+                // Among the hits: no pyramid from it holds them.
+                Light::point(DVec3::new(0.1, 0.0, 0.0), Colour::ONE),
+            ],
+            ..Scene::default()
+        };
+        let ball = |x: f64, z: f64| Box::new(Sphere::new(DVec3::new(x, 5.0, z), 0.5, 0)) as _;
+        // One ball between the light and the hits, two beside the way.
+        let world = World::build(vec![ball(0.0, 0.0), ball(4.0, 0.0), ball(0.0, 3.0)]);
+        let integrator = Integrator::new(&scene, &world);
+        let hits = Aabb::new(DVec3::new(-0.2, 0.0, -0.2), DVec3::new(0.2, 0.0, 0.2));
+        // Left over from an earlier pixel: replaced, not added to.
+        let mut lists = vec![None; 5];
+        integrator.light_blockers(&hits, &mut lists);
+        assert_eq!(lists.len(), 3);
+        assert!(lists[1].is_none(), "a parallel light's rays have no end");
+        assert!(lists[2].is_none(), "a light among the hits");
+        let mut between = lists[0].expect("a point light over the hits");
+        assert_eq!(between.len(), 1);
+        let up = |x: f64| {
+            let from = DVec3::new(x, 0.0, 0.0);
+            let d = DVec3::new(0.0, 10.0, 0.0) - from;
+            (
+                Ray::new(from, d.normalize()),
+                d.length() * (1.0 - SHADOW_EPSILON),
+            )
+        };
+        let (ray, reach) = up(0.0);
+        assert!(world.occludes_among(&mut between, &ray, 0.0, reach));
+        let (ray, reach) = up(0.2);
+        assert_eq!(
+            world.occludes_among(&mut between, &ray, 0.0, reach),
+            world.occludes(&ray, 0.0, reach)
+        );
+    }
+}
