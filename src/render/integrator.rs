@@ -594,8 +594,9 @@ mod tests {
         let scene = Scene {
             lights: vec![
                 Light::point(DVec3::new(0.0, 10.0, 0.0), Colour::ONE),
+                // (Its position, unused, above the hits as the first's.)
                 Light {
-                    position: DVec3::ZERO,
+                    position: DVec3::new(0.0, 20.0, 0.0),
                     colour: Colour::ONE,
                     kind: LightKind::Parallel {
                         direction: DVec3::Y,

@@ -241,14 +241,14 @@ impl<'a> PixelRenderer<'a> {
         if n < LIGHT_SHAFT_RAYS {
             for (s, ray) in scratch.rays.iter().enumerate() {
                 let path = &mut path(key, s, counts);
-                let c = if among.is_none() {
-                    self.integrator.trace(ray, 0, path)
-                } else {
-                    let mut hit = Hit::default();
-                    let found = self.integrator.first_hit(ray, among.as_ref(), &mut hit);
-                    let found = found.map(|o| (&mut hit, o));
-                    self.integrator
-                        .shade_first(ray, found, among.is_some(), &[], path)
+                let c = match &among {
+                    None => self.integrator.trace(ray, 0, path),
+                    Some(objects) => {
+                        let mut hit = Hit::default();
+                        let found = self.integrator.first_hit(ray, Some(objects), &mut hit);
+                        let found = found.map(|o| (&mut hit, o));
+                        self.integrator.shade_first(ray, found, true, &[], path)
+                    }
                 };
                 scratch.colours.push(c);
                 sum += c;
