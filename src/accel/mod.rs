@@ -395,7 +395,9 @@ impl World {
 
 /// The objects of a [`World`] that may block the rays inside one
 /// [`Shaft`] (at most [`Blockers::MAX`]): the rays are tested against
-/// these alone, and not at all when there are none. An object that blocks
+/// these alone, and not at all when there are none. The same short list
+/// holds the objects a pixel's camera rays may hit
+/// ([`World::beam_candidates`]). An object that blocks
 /// a ray moves to the front, so the next ray of the grid tries it first
 /// (neighbouring rays are mostly blocked by the same object).
 #[derive(Clone, Copy, Debug, Default)]

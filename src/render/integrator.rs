@@ -100,6 +100,8 @@ impl<'a> Integrator<'a> {
         Ray::new(Self::spawn_origin(at, dir), dir)
     }
 
+    /// The objects traced against: the pixel renderer asks it for the
+    /// few a pixel's beam meets.
     pub fn world(&self) -> &World {
         self.world
     }
