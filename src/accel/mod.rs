@@ -219,8 +219,10 @@ impl Mailbox {
 #[derive(Debug)]
 pub struct World {
     bounded: Vec<Box<dyn Shape>>,
-    /// Each bounded object's box, and the box around them all (empty
-    /// when there are none).
+    /// Each bounded object's box when there are at most [`BEAM_SCAN`]
+    /// (a pixel's beam tests them in a row; kept for more, they would
+    /// cost `many` 6 MB), and the box around them all (empty when there
+    /// are none).
     boxes: Vec<Aabb>,
     bounded_box: Aabb,
     index: WorldIndex,
@@ -291,6 +293,10 @@ impl World {
                 mesh_bvhs: mesh_bvhs.bytes as usize,
             },
         };
+        let mut boxes = boxes;
+        if boxes.len() > BEAM_SCAN {
+            boxes = Vec::new();
+        }
         World {
             bounded,
             boxes,
@@ -498,11 +504,11 @@ impl World {
             _ => {}
         }
         let beam = beam::Beam::new(rays, &self.bounded_box)?;
-        let keep = |i: u32| !beam.may_meet(&self.boxes[i as usize]) || b.push(i);
         // A few objects are quicker tested in a row than found in the tree.
-        let all = if self.boxes.len() <= BEAM_SCAN {
-            (0..self.boxes.len() as u32).all(keep)
+        let all = if self.boxes.len() == self.bounded.len() {
+            (self.boxes.iter().enumerate()).all(|(i, o)| !beam.may_meet(o) || b.push(i as u32))
         } else {
+            let keep = |i: u32| !beam.may_meet(&self.bounded[i as usize].bounds()) || b.push(i);
             match &self.index {
                 WorldIndex::Kd(t) => t.overlapping(&beam.bounds(), keep),
                 WorldIndex::Bvh(t) => t.overlapping(&beam.bounds(), keep),
