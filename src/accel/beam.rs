@@ -118,7 +118,7 @@ impl Beam {
         if planes.iter().any(|(n, d)| !n.is_finite() || !d.is_finite()) {
             return None;
         }
-        let margins = planes.map(|(n, _)| slack * (n.x.abs() + n.y.abs() + n.z.abs()));
+        let margins = planes.map(|(n, _)| super::shaft::margin(n, slack));
         let mut bounds = Aabb::EMPTY;
         for ((lo, hi), depth) in ends.into_iter().zip([0.0, far]) {
             for (a, b) in [
@@ -150,15 +150,7 @@ impl Beam {
         if b.is_empty() || self.bounds.is_empty() {
             return false;
         }
-        self.planes.iter().zip(self.margins).all(|((n, d), m)| {
-            // The box's corner farthest inside this plane.
-            let p = DVec3::new(
-                if n.x > 0.0 { b.min.x } else { b.max.x },
-                if n.y > 0.0 { b.min.y } else { b.max.y },
-                if n.z > 0.0 { b.min.z } else { b.max.z },
-            );
-            n.dot(p) - d <= m
-        })
+        super::shaft::within_planes(&self.planes, &self.margins, b)
     }
 }
 

@@ -293,10 +293,11 @@ impl World {
                 mesh_bvhs: mesh_bvhs.bytes as usize,
             },
         };
-        let mut boxes = boxes;
-        if boxes.len() > BEAM_SCAN {
-            boxes = Vec::new();
-        }
+        let boxes = if boxes.len() > BEAM_SCAN {
+            Vec::new()
+        } else {
+            boxes
+        };
         World {
             bounded,
             boxes,
@@ -341,10 +342,7 @@ impl World {
         let mut best: Option<&dyn Shape> = None;
         let mut t_best = t_max;
         for o in &self.unbounded {
-            if o.intersect_into(ray, t_min, t_best, hit) {
-                t_best = hit.t;
-                best = Some(&**o);
-            }
+            nearer(&**o, ray, t_min, &mut t_best, hit, &mut best);
         }
         match &self.index {
             WorldIndex::Kd(tree) => {
@@ -364,11 +362,14 @@ impl World {
             // Each object is in one leaf: no mailbox.
             WorldIndex::Bvh(b) => b.walk(ray, t_min, t_best, |first, count, mut limit| {
                 for &i in &b.items()[first..first + count] {
-                    let o = &*self.bounded[i as usize];
-                    if o.intersect_into(ray, t_min, limit, hit) {
-                        limit = hit.t;
-                        best = Some(o);
-                    }
+                    nearer(
+                        &*self.bounded[i as usize],
+                        ray,
+                        t_min,
+                        &mut limit,
+                        hit,
+                        &mut best,
+                    );
                 }
                 limit
             }),
@@ -396,6 +397,24 @@ impl World {
                     hit
                 }
             }
+    }
+}
+
+/// Tests `o` for a hit in (`t_min`, `*limit`), written into `hit`; on
+/// one, the limit shrinks to it and `o` is the nearest so far. Each
+/// nearest-hit search over a list of objects steps through it so.
+#[inline(always)]
+fn nearer<'w>(
+    o: &'w dyn Shape,
+    ray: &Ray,
+    t_min: f64,
+    limit: &mut f64,
+    hit: &mut Hit,
+    best: &mut Option<&'w dyn Shape>,
+) {
+    if o.intersect_into(ray, t_min, *limit, hit) {
+        *limit = hit.t;
+        *best = Some(o);
     }
 }
 
@@ -506,7 +525,10 @@ impl World {
         let beam = beam::Beam::new(rays, &self.bounded_box)?;
         // A few objects are quicker tested in a row than found in the tree.
         let all = if self.boxes.len() == self.bounded.len() {
-            (self.boxes.iter().enumerate()).all(|(i, o)| !beam.may_meet(o) || b.push(i as u32))
+            self.boxes
+                .iter()
+                .enumerate()
+                .all(|(i, o)| !beam.may_meet(o) || b.push(i as u32))
         } else {
             let keep = |i: u32| !beam.may_meet(&self.bounded[i as usize].bounds()) || b.push(i);
             match &self.index {
@@ -530,11 +552,7 @@ impl World {
         let mut best: Option<&dyn Shape> = None;
         let mut t_best = t_max;
         for &id in &candidates.ids[..candidates.len] {
-            let o = self.object(id);
-            if o.intersect_into(ray, t_min, t_best, hit) {
-                t_best = hit.t;
-                best = Some(o);
-            }
+            nearer(self.object(id), ray, t_min, &mut t_best, hit, &mut best);
         }
         best
     }

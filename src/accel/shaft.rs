@@ -154,7 +154,7 @@ impl Shaft {
             .max(f64::MIN_POSITIVE);
         // (All finite: every corner lies ahead of the apex by 10⁻⁶ of its
         // distance at least, so no slope is infinite.)
-        let margins = planes.map(|(n, _)| MARGIN * scale * (n.x.abs() + n.y.abs() + n.z.abs()));
+        let margins = planes.map(|(n, _)| margin(n, MARGIN * scale));
         let bounds = vertices[1..]
             .iter()
             .fold(Aabb::new(apex, apex), |b, v| b.grow(*v));
@@ -192,19 +192,36 @@ impl Shaft {
         {
             return false;
         }
-        for ((n, d), m) in self.planes.iter().zip(self.margins) {
-            // The box's corner farthest inside this face.
-            let p = DVec3::new(
-                if n.x > 0.0 { b.min.x } else { b.max.x },
-                if n.y > 0.0 { b.min.y } else { b.max.y },
-                if n.z > 0.0 { b.min.z } else { b.max.z },
-            );
-            if n.dot(p) - d > m {
-                return false;
-            }
-        }
-        true
+        within_planes(&self.planes, &self.margins, b)
     }
+}
+
+/// Whether the box `b` may reach inside every plane (n, d) of a convex
+/// region (outside is n·x > d): false only when, for some plane, even
+/// the box's corner farthest inside it lies beyond it by more than that
+/// plane's margin. The shafts and the camera's beams (accel/beam.rs) both
+/// ask it.
+#[inline(always)]
+pub(super) fn within_planes(planes: &[(DVec3, f64); 5], margins: &[f64; 5], b: &Aabb) -> bool {
+    for ((n, d), m) in planes.iter().zip(margins) {
+        // The box's corner farthest inside this face.
+        let p = DVec3::new(
+            if n.x > 0.0 { b.min.x } else { b.max.x },
+            if n.y > 0.0 { b.min.y } else { b.max.y },
+            if n.z > 0.0 { b.min.z } else { b.max.z },
+        );
+        if n.dot(p) - d > *m {
+            return false;
+        }
+    }
+    true
+}
+
+/// The margin a plane test with normal `n` (not of unit length) allows
+/// for coordinates whose rounding `slack` bounds: the plane's value moves
+/// by at most |n|₁ times the move of the point.
+pub(super) fn margin(n: DVec3, slack: f64) -> f64 {
+    slack * (n.x.abs() + n.y.abs() + n.z.abs())
 }
 
 #[cfg(test)]
