@@ -38,7 +38,7 @@ pub fn offset_ray_origin(p: DVec3, p_error: DVec3, n_geo: DVec3, dir: DVec3) -> 
 /// [`offset_ray_origin`] for a normal already through `normalize_or_zero`
 /// (unit or zero), so that a caller spawning several rays from one hit
 /// normalises once; the result is the same to the bit.
-#[inline]
+#[inline(always)]
 pub fn offset_along_unit(p: DVec3, p_error: DVec3, unit_normal: DVec3, dir: DVec3) -> DVec3 {
     let mut n = unit_normal;
     if dir.dot(n) < 0.0 {

@@ -118,6 +118,7 @@ impl<'a> Prepared<'a> {
     }
 
     /// [`sample`].
+    #[inline(always)]
     pub fn sample(&self, from: DVec3, u: (f64, f64)) -> Option<LightSample> {
         let light = self.light;
         if let LightSurface::Sphere { centre, radius } = light.surface
