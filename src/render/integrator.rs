@@ -91,11 +91,15 @@ impl<'a> Integrator<'a> {
     /// the surface by its error bound, to the side of the geometric surface
     /// that `dir` goes to (`offset_ray_origin`, docs/architecture.md,
     /// "Rounding error and ray offsets"); refracted rays so start on the far side.
+    #[inline(always)]
     fn spawn_origin(at: &Shading, dir: DVec3) -> DVec3 {
         offset_along_unit(at.p, at.p_err, at.ng_offset, dir)
     }
 
-    /// A secondary ray from the shading point along unit `dir`.
+    /// A secondary ray from the shading point along unit `dir`. Inlined:
+    /// `dir`, handed over in memory just after it was worked out, was read
+    /// back before its stores had landed (a stalled forward on Intel).
+    #[inline(always)]
     fn spawn(at: &Shading, dir: DVec3) -> Ray {
         Ray::new(Self::spawn_origin(at, dir), dir)
     }
@@ -481,6 +485,7 @@ impl<'a> Integrator<'a> {
     /// What of a light's colour gets through along `ray` up to `dist`:
     /// one for a clear path, zero when something opaque is in the way, and
     /// through glass each medium's filter to the length travelled in it.
+    #[inline(always)]
     fn transmittance(&self, ray: &Ray, dist: f64, counts: &mut RayCounts) -> Colour {
         if !self.has_glass {
             return if self.blocked(ray, dist, counts) {
