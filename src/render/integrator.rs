@@ -40,6 +40,8 @@ pub struct Integrator<'a> {
     background: Colour,
     /// `render { bailout }`: rays whose weight falls below it are not cast.
     bailout: f64,
+    /// Per area light, its own grid of points when it has one.
+    grids: Vec<Option<area::Grid>>,
 }
 
 /// What one path carries: its random numbers, its ray counts, and its
@@ -59,6 +61,7 @@ impl<'a> Integrator<'a> {
             has_glass: scene.materials.iter().any(|m| m.refract.is_some()),
             background: scene.settings.background,
             bailout: scene.settings.bailout,
+            grids: scene.area_lights.iter().map(area::Grid::new).collect(),
         }
     }
 
@@ -319,18 +322,24 @@ impl<'a> Integrator<'a> {
                 self.add_light(m, at, s, path, blockers.as_mut(), &mut lit);
             }
         }
-        for l in &self.scene.area_lights {
-            match l.samples {
-                None => {
+        for (l, grid) in self.scene.area_lights.iter().zip(&self.grids) {
+            match (l.samples, grid) {
+                (None, _) => {
                     let u = path.stream.next2();
                     let l = area::Prepared::new(l);
                     if let Some(s) = self.area_sample(&l, at.lifted, u, path.counts) {
                         self.add_light(m, at, s, path, None, &mut lit);
                     }
                 }
-                Some(k) => {
-                    // Its own k × k grid of cell centres, averaged; the
-                    // rays are tested only against what may block them.
+                // Its own k × k grid of cell centres, averaged; the rays
+                // are tested only against what may block them.
+                (Some(_), Some(grid)) => {
+                    let mut blockers = self.grid_blockers(l, at.lifted);
+                    grid.each(l, at.lifted, |s| {
+                        self.add_light(m, at, s, path, blockers.as_mut(), &mut lit)
+                    });
+                }
+                (Some(k), None) => {
                     let w = 1.0 / (k * k) as f64;
                     let mut blockers = self.grid_blockers(l, at.lifted);
                     let l = area::Prepared::new(l);
