@@ -567,20 +567,22 @@ impl Csg {
 }
 
 impl Csg {
-    /// The result's first crossing within (t_min, t_max), as a full hit.
-    fn nearest(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<Hit> {
+    /// The result's first crossing within (t_min, t_max), as a full hit
+    /// written into `hit` (left as it was when there is none). A lone
+    /// child writes its hit there itself: a hit handed back in an `Option`
+    /// is copied (160 bytes) at each level, and a union holding the floor
+    /// is asked by every ray.
+    fn nearest_into(&self, ray: &Ray, t_min: f64, t_max: f64, hit: &mut Hit) -> bool {
         // The lone children's nearest hit, as the child gave it: made the
         // result's (texture space, path) only if nothing swept is nearer.
-        let mut found: Option<Hit> = None;
-        let mut found_child = 0;
+        let mut found_child = None;
         let swept = with_scratch(|s| {
             let (alone, rest) = self.union_split(ray, t_min, t_max, s);
             let mut t_best = t_max;
             for i in bits(alone) {
-                if let Some(h) = self.children[i].intersect(ray, t_min, t_best) {
-                    t_best = h.t;
-                    found = Some(h);
-                    found_child = i;
+                if self.children[i].intersect_into(ray, t_min, t_best, hit) {
+                    t_best = hit.t;
+                    found_child = Some(i);
                 }
             }
             let mut swept = None;
@@ -600,21 +602,27 @@ impl Csg {
         });
         // Anything the sweep found lies before t_best.
         if let Some(c) = swept {
-            return Some(self.hit_of(ray, &c));
+            *hit = self.hit_of(ray, &c);
+            return true;
         }
-        let mut h = found?;
-        self.in_texture_space(ray, &mut h, found_child);
-        self.tag(&mut h, found_child as u32);
-        Some(h)
+        let Some(i) = found_child else {
+            return false;
+        };
+        self.in_texture_space(ray, hit, i);
+        self.tag(hit, i as u32);
+        true
     }
 }
 
 impl Shape for Csg {
     fn intersect(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<Hit> {
-        if !self.may_hit(ray, t_min, t_max) {
-            return None;
-        }
-        self.nearest(ray, t_min, t_max)
+        let mut hit = Hit::default();
+        self.intersect_into(ray, t_min, t_max, &mut hit)
+            .then_some(hit)
+    }
+
+    fn intersect_into(&self, ray: &Ray, t_min: f64, t_max: f64, hit: &mut Hit) -> bool {
+        self.may_hit(ray, t_min, t_max) && self.nearest_into(ray, t_min, t_max, hit)
     }
 
     fn occludes(&self, ray: &Ray, t_min: f64, t_max: f64) -> bool {

@@ -606,6 +606,25 @@ fn union_of_apart_children_agrees_with_the_sweep() {
         assert_eq!(got.map(|h| h.material), want.map(|h| h.material));
         assert_eq!(got.map(|h| h.path), want.map(|h| h.path));
         assert_eq!(u.occludes(r, lo, hi), want.is_some());
+        // Written in place, the same hit; on a miss the caller's hit (a
+        // nearer one found elsewhere) stays as it was.
+        let before = Hit {
+            t: -7.0,
+            material: 99,
+            path: 5,
+            ..Hit::default()
+        };
+        let mut into = before;
+        assert_eq!(u.intersect_into(r, lo, hi, &mut into), want.is_some());
+        match want {
+            Some(w) => {
+                assert_eq!(
+                    (into.t, into.material, into.path),
+                    (w.t, w.material, w.path)
+                );
+            }
+            None => assert_eq!((into.t, into.material, into.path), (before.t, 99, 5)),
+        }
         hits += got.is_some() as usize;
     }
     assert!(hits > 300, "{hits}");
