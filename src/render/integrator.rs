@@ -339,6 +339,9 @@ impl<'a> Integrator<'a> {
                         self.add_light(m, at, s, path, blockers.as_mut(), &mut lit)
                     });
                 }
+                // The same for a sphere light, whose points depend on
+                // where it is seen from, and a light whose samples each
+                // look for its surface first (`area_sample`).
                 (Some(k), None) => {
                     let w = 1.0 / (k * k) as f64;
                     let mut blockers = self.grid_blockers(l, at.lifted);

@@ -138,6 +138,23 @@ fn an_open_floor_settles_every_shadow_ray_and_a_blocker_only_some() {
 }
 
 #[test]
+fn with_glass_in_the_scene_clear_grid_rays_are_settled_and_light_the_same() {
+    let _watchdog = crate::watchdog::start();
+    // A glass ball far off to the side, in no shaft and out of view: the
+    // scene now has glass, so its shadow rays take the route that can go
+    // through glass, which must settle the clear ones as the opaque route
+    // does and light the floor the same, pixel for pixel.
+    let far_glass = "sphere { centre <30, 1, 0>  radius 0.5  material { refract { ior 1.5 } } }";
+    let (plain, ps) = render_stats(&grid_light_scene(""), None, 1);
+    let (glassy, gs) = render_stats(&grid_light_scene(far_glass), None, 1);
+    for s in [&ps, &gs] {
+        assert_eq!((s.rays.shadow, s.rays.settled), (16 * 256, 16 * 256));
+    }
+    assert_eq!(max_difference(&plain, &glassy), 0.0);
+    assert!(luminance(glassy.get(8, 8)) > 0.1, "{:?}", glassy.get(8, 8));
+}
+
+#[test]
 fn the_memory_line_counts_the_mesh_trees() {
     let _watchdog = crate::watchdog::start();
     let dir = tempfile::tempdir().unwrap();
