@@ -8,13 +8,8 @@ use crate::shapes::{Plane, Sphere};
 #[test]
 fn world_agrees_with_a_linear_scan() {
     let _watchdog = crate::watchdog::start();
-    let mut s = 0x9e3779b97f4a7c15u64;
-    let mut rnd = move || {
-        s ^= s << 13;
-        s ^= s >> 7;
-        s ^= s << 17;
-        (s >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-    };
+    let mut unit = beam::tests::rng(0x9e37_79b9_7f4a_7c15);
+    let mut rnd = move || unit() * 2.0 - 1.0;
     let spheres: Vec<Sphere> = (0..300)
         .map(|i| {
             let c = DVec3::new(rnd(), rnd(), rnd()) * 10.0;
@@ -74,13 +69,7 @@ fn world_agrees_with_a_linear_scan() {
 #[test]
 fn shaft_blockers_decide_every_ray_as_the_tree_does() {
     let _watchdog = crate::watchdog::start();
-    let mut s = 0x2545f4914f6cdd1du64;
-    let mut rnd = move || {
-        s ^= s << 13;
-        s ^= s >> 7;
-        s ^= s << 17;
-        (s >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut rnd = beam::tests::rng(0x2545_f491_4f6c_dd1d);
     // Small spheres in a 10-wide box above a floor; lights over them.
     let balls = random_balls(60, 0.1, 0.3, &mut rnd);
     // Both indexes find the blockers (each its own box query).
