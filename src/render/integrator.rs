@@ -348,7 +348,7 @@ impl<'a> Integrator<'a> {
                     let l = area::Prepared::new(l);
                     for j in 0..k {
                         for i in 0..k {
-                            let u = ((i as f64 + 0.5) / k as f64, (j as f64 + 0.5) / k as f64);
+                            let u = area::cell_centre(i, j, k);
                             if let Some(mut s) = self.area_sample(&l, at.lifted, u, path.counts) {
                                 s.radiance *= w;
                                 self.add_light(m, at, s, path, blockers.as_mut(), &mut lit);
@@ -446,7 +446,7 @@ impl<'a> Integrator<'a> {
             return Some(s);
         }
         counts.shadow += 1;
-        let at = s.dist / (1.0 - 1e-9);
+        let at = s.dist / area::SHORT_OF_SURFACE;
         let ray = Ray::new(from, s.dir);
         let (mut hit, object) = self
             .world

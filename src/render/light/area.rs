@@ -145,6 +145,16 @@ impl<'a> Prepared<'a> {
     }
 }
 
+/// A sample's shadow ray stops this share of the way to the light, short
+/// of the light's own surface, which the sample's point lies on.
+pub const SHORT_OF_SURFACE: f64 = 1.0 - 1e-9;
+
+/// The centre of cell (i, j) of a k × k grid over the unit square: the
+/// points of a light's own grid (`samples k`).
+pub fn cell_centre(i: u32, j: u32, k: u32) -> (f64, f64) {
+    ((i as f64 + 0.5) / k as f64, (j as f64 + 0.5) / k as f64)
+}
+
 /// The light from the point y (normal `ny`) of `light`, whose area is
 /// `area`, as seen from `from`; `None` when y faces away.
 #[inline(always)]
@@ -162,8 +172,7 @@ fn towards(light: &AreaLight, y: DVec3, ny: DVec3, area: f64, from: DVec3) -> Op
     }
     Some(LightSample {
         dir,
-        // Stop short of the light's own surface, which y lies on.
-        dist: dist * (1.0 - 1e-9),
+        dist: dist * SHORT_OF_SURFACE,
         radiance: light.emit * (cos_y / d2 * area),
     })
 }
@@ -206,16 +215,12 @@ impl Grid {
             return None;
         }
         let flat = flat_normal(&light.surface);
-        let mut points = Vec::with_capacity((k * k) as usize);
-        let mut normal = flat;
-        for j in 0..k {
-            for i in 0..k {
-                let u = ((i as f64 + 0.5) / k as f64, (j as f64 + 0.5) / k as f64);
-                let (y, ny) = point_at(&light.surface, u, flat);
-                points.push(y);
-                normal = ny;
-            }
-        }
+        let mut points: Vec<DVec3> = (0..k)
+            .flat_map(|j| (0..k).map(move |i| cell_centre(i, j, k)))
+            .map(|u| point_at(&light.surface, u, flat).0)
+            .collect();
+        // The same at every point of a flat light.
+        let normal = point_at(&light.surface, (0.5, 0.5), flat).1;
         let len = points.len();
         let last = *points.last()?;
         points.resize(len.div_ceil(CHUNK) * CHUNK, last);
@@ -271,8 +276,7 @@ impl Grid {
                 }
                 let mut s = LightSample {
                     dir: DVec3::new(dir[0][i], dir[1][i], dir[2][i]),
-                    // Stop short of the light's own surface, which y lies on.
-                    dist: dist[i] * (1.0 - 1e-9),
+                    dist: dist[i] * SHORT_OF_SURFACE,
                     radiance: light.emit * share[i],
                 };
                 s.radiance *= self.weight;
@@ -310,7 +314,7 @@ pub fn sphere_cone(centre: DVec3, radius: f64, from: DVec3, u: (f64, f64)) -> Op
     let dist = proj - disc.sqrt();
     Some(LightSample {
         dir,
-        dist: dist * (1.0 - 1e-9),
+        dist: dist * SHORT_OF_SURFACE,
         radiance: crate::scene::Colour::splat(std::f64::consts::TAU * one_minus_cos_max),
     })
 }
