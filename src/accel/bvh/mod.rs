@@ -31,7 +31,8 @@ use triangles::{Block, LaneRay};
 /// How the boxes and triangles are tested.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Simd {
-    /// AVX2 and FMA: eight boxes or four triangles per instruction.
+    /// AVX2 and FMA (with BMI1 and POPCNT, which every AVX2 CPU has, for
+    /// the child masks): eight boxes or four triangles per instruction.
     Avx2,
     /// One lane at a time, the same layout and results.
     Scalar,
@@ -49,7 +50,7 @@ impl Simd {
     }
 
     /// The path for `RAYTRACE_SIMD`'s value (`asked`) on a CPU that has
-    /// AVX2 and FMA (`avx2`) or not: AVX2 where there is one, unless
+    /// AVX2, FMA, BMI1 and POPCNT (`avx2`) or not: AVX2 where there is one, unless
     /// asked for `scalar`.
     fn choose(asked: Option<&str>, avx2: bool) -> Simd {
         let forced = asked == Some("scalar");
@@ -63,7 +64,10 @@ impl Simd {
     pub fn avx2_available() -> bool {
         #[cfg(target_arch = "x86_64")]
         {
-            is_x86_feature_detected!("avx2") && is_x86_feature_detected!("fma")
+            is_x86_feature_detected!("avx2")
+                && is_x86_feature_detected!("fma")
+                && is_x86_feature_detected!("bmi1")
+                && is_x86_feature_detected!("popcnt")
         }
         #[cfg(not(target_arch = "x86_64"))]
         {
@@ -311,16 +315,17 @@ impl Bvh {
         let r = BoxRay::new(ray.origin.to_array(), ray.dir.to_array());
         match self.simd {
             #[cfg(target_arch = "x86_64")]
-            // SAFETY: `simd` is Avx2 only where the CPU has AVX2 and FMA.
+            // SAFETY: `simd` is Avx2 only where the CPU has AVX2, FMA, BMI1 and
+            // POPCNT.
             Simd::Avx2 => unsafe { self.walk_avx2(&r, t_min, t_max, &mut leaf) },
             _ => self.walk_in::<false>(&r, t_min, t_max, &mut leaf),
         }
     }
 
     /// # Safety
-    /// The CPU must support AVX2 and FMA.
+    /// The CPU must support AVX2, FMA, BMI1 and POPCNT.
     #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2,fma")]
+    #[target_feature(enable = "avx2,fma,bmi1,popcnt")]
     unsafe fn walk_avx2(
         &self,
         r: &BoxRay,

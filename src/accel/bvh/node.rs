@@ -141,9 +141,9 @@ pub(super) fn hits_scalar(n: &Node8, r: &BoxRay, t_min: f32, t_max: f32) -> (u32
 /// [`hits_scalar`] for the eight lanes at once with AVX2.
 ///
 /// # Safety
-/// The CPU must support AVX2 and FMA.
+/// The CPU must support AVX2, FMA, BMI1 and POPCNT.
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
+#[target_feature(enable = "avx2,fma,bmi1,popcnt")]
 #[inline]
 pub(super) unsafe fn hits_avx2(n: &Node8, r: &BoxRay, t_min: f32, t_max: f32) -> (u32, [f32; 8]) {
     use std::arch::x86_64::*;

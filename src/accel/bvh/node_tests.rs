@@ -82,12 +82,15 @@ fn the_path_is_avx2_where_the_cpu_has_it_unless_asked_for_scalar() {
         Simd::detect(),
         Simd::choose(asked.as_deref(), Simd::avx2_available())
     );
-    // Where the CPU has AVX2 and FMA, the AVX2 path is taken (and these
-    // tests run it beside the scalar one).
+    // Where the CPU has AVX2, FMA, BMI1 and POPCNT, the AVX2 path is taken
+    // (and these tests run it beside the scalar one).
     #[cfg(target_arch = "x86_64")]
     assert_eq!(
         Simd::avx2_available(),
-        is_x86_feature_detected!("avx2") && is_x86_feature_detected!("fma")
+        is_x86_feature_detected!("avx2")
+            && is_x86_feature_detected!("fma")
+            && is_x86_feature_detected!("bmi1")
+            && is_x86_feature_detected!("popcnt")
     );
     let mut b = Bvh::build(&[Aabb::new(DVec3::ZERO, DVec3::ONE)], TRIANGLES);
     b.set_simd(Simd::Scalar);
@@ -267,7 +270,7 @@ proptest! {
         check_box_test("scalar", &kids, o, d, w, node::hits_scalar(&n, &r, w.0, w.1))?;
         #[cfg(target_arch = "x86_64")]
         if Simd::avx2_available() {
-            // SAFETY: the CPU has AVX2 and FMA.
+            // SAFETY: the CPU has AVX2, FMA, BMI1 and POPCNT.
             let got = unsafe { node::hits_avx2(&n, &r, w.0, w.1) };
             check_box_test("avx2", &kids, o, d, w, got)?;
         }
@@ -353,7 +356,7 @@ fn check_block(
     ];
     #[cfg(target_arch = "x86_64")]
     if Simd::avx2_available() {
-        // SAFETY: the CPU has AVX2 and FMA.
+        // SAFETY: the CPU has AVX2, FMA, BMI1 and POPCNT.
         results.push(("avx2", unsafe {
             triangles::hits_avx2(&b, &r, t_min, t_max)
         }));
@@ -473,7 +476,7 @@ fn a_ray_touching_an_edge_keeps_the_box() {
                     assert!(near[3] <= t32);
                     #[cfg(target_arch = "x86_64")]
                     if Simd::avx2_available() {
-                        // SAFETY: the CPU has AVX2 and FMA.
+                        // SAFETY: the CPU has AVX2, FMA, BMI1 and POPCNT.
                         let (mask, _) = unsafe { node::hits_avx2(&n, &r, w.0, w.1) };
                         assert_eq!(mask, 1 << 3, "avx2: {o:?} {d:?} in {w:?}");
                     }

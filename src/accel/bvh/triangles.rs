@@ -77,7 +77,7 @@ impl LaneRay {
 pub fn hits(b: &Block, r: &LaneRay, t_min: f64, t_max: f64, simd: super::Simd) -> (u32, [f64; 4]) {
     #[cfg(target_arch = "x86_64")]
     if simd == super::Simd::Avx2 && super::Simd::avx2_available() {
-        // SAFETY: the CPU has AVX2 and FMA (checked just above).
+        // SAFETY: the CPU has AVX2, FMA, BMI1 and POPCNT (checked just above).
         return unsafe { hits_avx2(b, r, t_min, t_max) };
     }
     let _ = simd;
@@ -109,9 +109,9 @@ pub fn hits_scalar(b: &Block, r: &LaneRay, t_min: f64, t_max: f64) -> (u32, [f64
 /// as `ShearedRay::test`, in the same order.
 ///
 /// # Safety
-/// The CPU must support AVX2.
+/// The CPU must support AVX2, FMA, BMI1 and POPCNT.
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
+#[target_feature(enable = "avx2,fma,bmi1,popcnt")]
 #[inline]
 pub unsafe fn hits_avx2(b: &Block, r: &LaneRay, t_min: f64, t_max: f64) -> (u32, [f64; 4]) {
     use std::arch::x86_64::*;
