@@ -20,7 +20,14 @@
 # time; POV-Ray's from run.sh's logs), which a loaded machine inflates far
 # less: compare CPU ratios when the load average is above the core count.
 #
+# POV-Ray's runs and ours alternate, scene by scene (POV-Ray, ours,
+# POV-Ray, ours, ...): on a shared machine the load drifts over minutes,
+# and a block of POV-Ray runs followed by a block of ours put the drift
+# into the ratios (the same binary's row moved 15-25% between sittings).
+# INTERLEAVE=0 runs every POV-Ray scene first, as before.
+#
 # Knobs: PEER [../shared/peers/povray], RUNS [3], SIZE [1000], THREADS [2],
+# INTERLEAVE [1],
 # REUSE_POV [0; 1 reads POV-Ray's last results instead of running it again],
 # SCENES [all twelve], BIN [the release build of this tree], EMBREE [path to
 # bunny_embree; built when missing; `none` skips Embree], EMBREE_DIR
@@ -61,33 +68,63 @@ spread() { sort -g | awk 'NR==1 {lo=$1} {hi=$1} END {printf "%.2f-%.2f", lo, hi}
 
 echo "machine: $(nproc) cores, $(lscpu | sed -n 's/^Model name: *//p'); load before: $(uptime | sed 's/.*load average: //')" >&2
 
+INTERLEAVE="${INTERLEAVE:-1}"
+REUSE_POV="${REUSE_POV:-0}"
 pov_scenes=""
 for s in $SCENES; do pov_scenes="$pov_scenes $(pov_name "$s")"; done
-if [ "${REUSE_POV:-0}" = 0 ]; then
+# POV-Ray's results: one table and log folder for all runs (TAG compare),
+# or, interleaved, one per run (TAG compare_1, compare_2, ...).
+if [ "$INTERLEAVE" = 1 ]; then
+  PTAGS=""
+  for i in $(seq 1 "$RUNS"); do PTAGS="$PTAGS compare_$i"; done
+else
+  PTAGS="compare"
+fi
+if [ "$REUSE_POV" != 0 ]; then
+  echo "== POV-Ray: reusing the last run's results (REUSE_POV=1)" >&2
+elif [ "$INTERLEAVE" = 1 ]; then
+  echo "== POV-Ray and ours alternating, scene by scene:$pov_scenes" >&2
+else
   echo "== POV-Ray:$pov_scenes" >&2
   RUNS="$RUNS" SIZE="$SIZE" THREADS="$THREADS" ERRORS=0 TAG=compare SCENES="$pov_scenes" \
     "$PEER/run.sh" >/dev/null
-else
-  echo "== POV-Ray: reusing the last run's results (REUSE_POV=1)" >&2
 fi
-PTSV="$PEER/out/results_compare.tsv"
-PLOG="$PEER/logs/compare"
+
+# One POV-Ray run of scene $1 as run $2 of the interleaved sitting.
+pov_once() {
+  RUNS=1 SIZE="$SIZE" THREADS="$THREADS" ERRORS=0 TAG="compare_$2" SCENES="$1" \
+    "$PEER/run.sh" >/dev/null 2>"$OUT/pov_run.err" || { cat "$OUT/pov_run.err" >&2; exit 1; }
+}
+
+# A column of POV-Ray's tables for one scene, one value per table (each
+# holds the median of its own runs).
+pov_values() {
+  for t in $PTAGS; do
+    awk -v s="$1" -v c="$2" -F'\t' 'NR==1 {for (i=1;i<=NF;i++) h[$i]=i} $1==s {print $h[c]}' \
+      "$PEER/out/results_$t.tsv"
+  done
+}
+pov_field() { pov_values "$1" "$2" | median; }
 
 # Whole-process CPU seconds (user + system) of POV-Ray's runs of one scene,
 # from its GNU time -v logs: on a loaded machine CPU time is inflated far
 # less than wall time.
 pov_cpu() {
-  for f in "$PLOG/$1".*.time; do
-    awk -F': ' '/User time/ {u=$2} /System time/ {s=$2} END {print u + s}' "$f"
+  for t in $PTAGS; do
+    for f in "$PEER/logs/$t/$1".*.time; do
+      awk -F': ' '/User time/ {u=$2} /System time/ {s=$2} END {print u + s}' "$f"
+    done
   done | median
 }
 
-printf '%-11s %8s %11s %8s %6s %8s %8s %6s %8s %8s %6s  %s\n' \
-  scene ours_s ours_spread pov_s ratio ours_cpu pov_cpu ratio ours_MiB pov_MiB ratio rays/s
+printf '%-11s %8s %11s %8s %11s %6s %8s %8s %6s %8s %8s %6s  %s\n' \
+  scene ours_s ours_spread pov_s pov_spread ratio ours_cpu pov_cpu ratio ours_MiB pov_MiB ratio rays/s
 bunny_wall=""; bunny_cpu=""; many_build=""
 for s in $SCENES; do
   walls=(); rss=(); cpus=(); builds=(); rps=""
+  pn=$(pov_name "$s")
   for i in $(seq 1 "$RUNS"); do
+    [ "$INTERLEAVE" = 1 ] && [ "$REUSE_POV" = 0 ] && pov_once "$pn" "$i"
     /usr/bin/time -f '%e %M %U %S' -o "$OUT/$s.time" "$BIN" "$ROOT/benches/scenes/$s.rt" \
       -o "$OUT/$s.png" --width "$SIZE" --height "$SIZE" --threads "$THREADS" --quiet --stats \
       2>"$OUT/$s.stats"
@@ -103,19 +140,19 @@ for s in $SCENES; do
   om=$(printf '%s\n' "${rss[@]}" | median)
   oc=$(printf '%s\n' "${cpus[@]}" | median)
   [ "$s" = bunny ] && bunny_wall="$ow" && bunny_cpu="$oc"
-  pn=$(pov_name "$s")
-  pw=$(awk -v s="$pn" -F'\t' 'NR==1 {for (i=1;i<=NF;i++) h[$i]=i} $1==s {print $h["wall_s"]}' "$PTSV")
-  pm=$(awk -v s="$pn" -F'\t' 'NR==1 {for (i=1;i<=NF;i++) h[$i]=i} $1==s {print $h["maxrss_mib"]}' "$PTSV")
+  pw=$(pov_field "$pn" wall_s)
+  psp=$(pov_values "$pn" wall_s_each | tr ',' '\n' | spread)
+  pm=$(pov_field "$pn" maxrss_mib)
   pc=$(pov_cpu "$pn")
-  awk -v s="$s" -v ow="$ow" -v osp="$osp" -v pw="$pw" -v oc="$oc" -v pc="$pc" -v om="$om" -v pm="$pm" -v r="$rps" 'BEGIN {
+  awk -v s="$s" -v ow="$ow" -v osp="$osp" -v pw="$pw" -v psp="$psp" -v oc="$oc" -v pc="$pc" -v om="$om" -v pm="$pm" -v r="$rps" 'BEGIN {
     omib = om / 1024;
-    printf "%-11s %8.3f %11s %8.3f %6.3f %8.2f %8.2f %6.3f %8.1f %8.1f %6.2f  %s\n", s, ow, osp, pw, (pw > 0 ? ow / pw : 0), oc, pc, (pc > 0 ? oc / pc : 0), omib, pm, (pm > 0 ? omib / pm : 0), r }'
+    printf "%-11s %8.3f %11s %8.3f %11s %6.3f %8.2f %8.2f %6.3f %8.1f %8.1f %6.2f  %s\n", s, ow, osp, pw, psp, (pw > 0 ? ow / pw : 0), oc, pc, (pc > 0 ? oc / pc : 0), omib, pm, (pm > 0 ? omib / pm : 0), r }'
 done
 
 # many's parse, evaluation and build (--stats' build line) against
 # POV-Ray's parse of many.pov (the language issue's target).
 if [ -n "$many_build" ]; then
-  pp=$(awk -F'\t' 'NR==1 {for (i=1;i<=NF;i++) h[$i]=i} $1=="many" {print $h["parse_s"]}' "$PTSV")
+  pp=$(pov_field many parse_s)
   awk -v b="$many_build" -v sp="$many_build_spread" -v p="$pp" 'BEGIN {
     printf "\nmany: parse + evaluate + build %.3f s (%s), POV-Ray parse %.3f s: ratio %.3f\n", b, sp, p, (p > 0 ? b / p : 0) }'
 fi
