@@ -877,7 +877,7 @@ impl Shape for Mesh {
 
 #[cfg(test)]
 #[path = "mesh_tests.rs"]
-mod tests;
+pub(crate) mod tests;
 
 #[cfg(test)]
 #[path = "mesh_crossing_tests.rs"]

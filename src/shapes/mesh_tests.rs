@@ -18,7 +18,7 @@ use crate::formats::ply::icosphere;
 use crate::shapes::testing;
 use proptest::prelude::*;
 
-fn sphere_mesh(levels: u32) -> Arc<MeshData> {
+pub(crate) fn sphere_mesh(levels: u32) -> Arc<MeshData> {
     let (p, t) = icosphere(levels);
     Arc::new(MeshData::from_parts(p, None, None, t))
 }

@@ -13,9 +13,20 @@ pub struct Transformed {
     pub inner: Box<dyn Shape>,
     pub transform: Transform,
     bounds: Aabb,
-    /// For a transform that only moves the shape: the move, forward and
-    /// back (the matrix's and the inverse's translations).
-    shift: Option<(DVec3, DVec3)>,
+    /// For a transform that only scales along the axes and moves (the
+    /// bunny's `scale 20 translate ...`, any plain `translate`): the
+    /// diagonals and translations of the matrix and its inverse.
+    axes: Option<Axes>,
+}
+
+/// An axis-aligned transform, x ↦ scale ⊙ x + forward, and its inverse,
+/// x ↦ inv ⊙ x + back, each read off its matrix.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Axes {
+    scale: DVec3,
+    forward: DVec3,
+    inv: DVec3,
+    back: DVec3,
 }
 
 impl Transformed {
@@ -23,27 +34,38 @@ impl Transformed {
         let bounds = inner.bounds().transformed(&transform);
         Transformed {
             inner,
-            shift: Self::shift_of(&transform),
+            axes: Self::axes_of(&transform),
             transform,
             bounds,
         }
     }
 
-    /// The translations of a transform whose matrix and inverse are the
-    /// identity beside them, exactly. Then the matrix products below come
-    /// to one addition per coordinate (a product by 1 is exact, and adding
-    /// a product by 0 changes nothing but the sign of a zero), so a moved
-    /// shape skips them with the same bits, at a fraction of the cost.
-    fn shift_of(t: &Transform) -> Option<(DVec3, DVec3)> {
-        let plain = |m: &DMat4| DMat3::from_mat4(*m) == DMat3::IDENTITY && m.row(3) == DVec4::W;
-        (plain(&t.matrix) && plain(&t.inverse))
-            .then(|| (t.matrix.w_axis.truncate(), t.inverse.w_axis.truncate()))
+    /// The diagonals and translations of a transform whose matrix and
+    /// inverse are zero off the diagonal (and plain in the last row),
+    /// exactly. Then each coordinate of the matrix products below is one
+    /// product and one sum (adding a product by 0 changes nothing but the
+    /// sign of a zero), so such a shape skips the matrices with the same
+    /// bits, at a fraction of the cost.
+    fn axes_of(t: &Transform) -> Option<Axes> {
+        let plain = |m: &DMat4| {
+            let d = DMat3::from_mat4(*m);
+            let diagonal = DMat3::from_diagonal(DVec3::new(d.x_axis.x, d.y_axis.y, d.z_axis.z));
+            d == diagonal && m.row(3) == DVec4::W
+        };
+        let diagonal = |m: &DMat4| DVec3::new(m.x_axis.x, m.y_axis.y, m.z_axis.z);
+        (plain(&t.matrix) && plain(&t.inverse)).then(|| Axes {
+            scale: diagonal(&t.matrix),
+            forward: t.matrix.w_axis.truncate(),
+            inv: diagonal(&t.inverse),
+            back: t.inverse.w_axis.truncate(),
+        })
     }
 
     #[inline]
     fn local_ray(&self, ray: &Ray) -> Ray {
-        if let Some((_, back)) = self.shift {
-            return Ray::new(ray.origin + back, ray.dir);
+        if let Some(a) = self.axes {
+            // `transform_point3` and `transform_vector3` less the zeros.
+            return Ray::new(a.back + a.inv * ray.origin, a.inv * ray.dir);
         }
         Ray::new(
             self.transform.inverse_point(ray.origin),
@@ -57,11 +79,16 @@ impl Transformed {
     /// In place: a hit is 160 bytes, and each copy on the way out of a
     /// nearest-hit query is a `memcpy`.
     fn to_world(&self, h: &mut Hit) {
-        if let Some((forward, _)) = self.shift {
-            // `transform_point_error` with the identity beside the move.
-            let mag = h.point.abs() + forward.abs();
-            h.p_error = (gamma(3) + 1.0) * h.p_error + gamma(3) * mag;
-            h.point += forward;
+        if let Some(a) = self.axes {
+            // `Transform::normal` and `transform_point_error` less the
+            // zeros: the inverse transpose of a diagonal is the inverse.
+            let same = h.normal == h.geo_normal;
+            h.normal *= a.inv;
+            h.geo_normal = if same { h.normal } else { h.geo_normal * a.inv };
+            let s = a.scale.abs();
+            let mag = s * h.point.abs() + a.forward.abs();
+            h.p_error = (gamma(3) + 1.0) * (s * h.p_error) + gamma(3) * mag;
+            h.point = a.forward + a.scale * h.point;
             return;
         }
         // Most shapes give one vector for both normals: map it once.
@@ -186,12 +213,15 @@ mod tests {
     }
 
     #[test]
-    fn a_shape_only_moved_skips_the_matrices_with_the_same_bits() {
+    fn a_shape_scaled_and_moved_along_the_axes_skips_the_matrices_with_the_same_bits() {
         // A torus (solved in its own space, so any change in the local ray
-        // shows in its roots) and a box, moved: the translation's shortcut
-        // gives every hit exactly as the matrices do.
+        // shows in its roots), a box, a sphere (whose normal is not unit,
+        // so the normal's mapping shows) and a smooth mesh (whose shading
+        // normal is not its geometric one), moved, scaled along the axes
+        // (evenly, as the bunny is, unevenly, and mirrored) and both: the
+        // shortcut gives every hit exactly as the matrices do.
         let by = DVec3::new(0.37, -1.3, 2.9);
-        let shapes: [fn() -> Box<dyn Shape>; 2] = [
+        let shapes: [fn() -> Box<dyn Shape>; 4] = [
             || Box::new(crate::shapes::Torus::new(1.0, 0.3, 0)),
             || {
                 Box::new(crate::shapes::Cuboid::new(
@@ -200,46 +230,64 @@ mod tests {
                     [0; 6],
                 ))
             },
+            || Box::new(Sphere::new(DVec3::new(0.1, 0.0, -0.2), 0.8, 0)),
+            || {
+                let data = crate::shapes::mesh::tests::sphere_mesh(1);
+                Box::new(crate::shapes::Mesh::new(data, true, 0))
+            },
         ];
-        for make in shapes {
-            let quick = Transformed::new(make(), Transform::translate(by));
-            assert!(quick.shift.is_some());
-            let mut full = Transformed::new(make(), Transform::translate(by));
-            full.shift = None;
-            let (mut hits, mut misses) = (0, 0);
-            for ray in crate::shapes::testing::rays_towards(by, 1.5, 600, 11) {
-                let (a, b) = (
-                    quick.intersect(&ray, 0.0, f64::INFINITY),
-                    full.intersect(&ray, 0.0, f64::INFINITY),
-                );
-                match (a, b) {
-                    (Some(a), Some(b)) => {
-                        hits += 1;
-                        assert_eq!(
-                            (a.t, a.point, a.p_error, a.normal, a.geo_normal, a.local),
-                            (b.t, b.point, b.p_error, b.normal, b.geo_normal, b.local)
-                        );
+        let scale = |v: DVec3| Transform::scale(v).unwrap();
+        let transforms = [
+            Transform::translate(by),
+            scale(DVec3::splat(20.0)).then(&Transform::translate(by)),
+            scale(DVec3::new(0.3, 1.7, 2.5)).then(&Transform::translate(by)),
+            scale(DVec3::new(-1.0, 0.5, 1.0)),
+        ];
+        for t in transforms {
+            for make in shapes {
+                let quick = Transformed::new(make(), t);
+                assert!(quick.axes.is_some());
+                let mut full = Transformed::new(make(), t);
+                full.axes = None;
+                // Rays about the unit shape, carried along with it.
+                let rays = crate::shapes::testing::rays_towards(DVec3::ZERO, 1.5, 600, 11);
+                let reach = 20.0 * t.vector(DVec3::ONE).abs().max_element();
+                let (mut hits, mut misses) = (0, 0);
+                for r in rays {
+                    let ray = Ray::new(t.point(r.origin), t.vector(r.dir).normalize());
+                    let (a, b) = (
+                        quick.intersect(&ray, 0.0, f64::INFINITY),
+                        full.intersect(&ray, 0.0, f64::INFINITY),
+                    );
+                    match (a, b) {
+                        (Some(a), Some(b)) => {
+                            hits += 1;
+                            assert_eq!(
+                                (a.t, a.point, a.p_error, a.normal, a.geo_normal, a.local),
+                                (b.t, b.point, b.p_error, b.normal, b.geo_normal, b.local)
+                            );
+                        }
+                        (None, None) => misses += 1,
+                        _ => panic!("{ray:?}: one found a hit, the other none"),
                     }
-                    (None, None) => misses += 1,
-                    _ => panic!("{ray:?}: one found a hit, the other none"),
+                    assert_eq!(
+                        quick.occludes(&ray, 0.0, reach),
+                        full.occludes(&ray, 0.0, reach)
+                    );
                 }
-                assert_eq!(
-                    quick.occludes(&ray, 0.0, 20.0),
-                    full.occludes(&ray, 0.0, 20.0)
-                );
+                assert!(hits > 100 && misses > 20, "{hits} {misses}");
             }
-            assert!(hits > 100 && misses > 20, "{hits} {misses}");
         }
-        // A turn, a stretch or a move after either is no mere move.
+        // A turn, or a move after a turn, is not along the axes.
         for t in [
             Transform::rotate(DVec3::Y, 30.0).unwrap(),
-            Transform::scale(DVec3::new(1.0, 2.0, 1.0)).unwrap(),
             Transform::rotate(DVec3::X, 10.0)
                 .unwrap()
                 .then(&Transform::translate(by)),
+            scale(DVec3::new(1.0, 2.0, 1.0)).then(&Transform::rotate(DVec3::Z, 90.0).unwrap()),
         ] {
-            let s = Transformed::new(Box::new(crate::shapes::Sphere::new(DVec3::ZERO, 1.0, 0)), t);
-            assert!(s.shift.is_none());
+            let s = Transformed::new(Box::new(Sphere::new(DVec3::ZERO, 1.0, 0)), t);
+            assert!(s.axes.is_none());
         }
     }
 
