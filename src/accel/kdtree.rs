@@ -432,13 +432,16 @@ impl KdTree {
                 } else if tp < lo - slack {
                     node = second;
                 } else {
-                    // `max` and `min` drop a NaN `tp`: both sides then get
-                    // the whole segment.
+                    // A NaN `tp` fails both comparisons: both sides then
+                    // get the whole segment (as `f64::max` and `min`,
+                    // which drop a NaN, would give, at several
+                    // instructions each).
                     in_plane |= tp.is_nan();
-                    stack[sp].write((second as u32, tp.max(lo), hi));
+                    let from = if tp > lo { tp } else { lo };
+                    stack[sp].write((second as u32, from, hi));
                     sp += 1;
                     node = first;
-                    hi = tp.min(hi);
+                    hi = if tp < hi { tp } else { hi };
                 }
                 continue;
             }

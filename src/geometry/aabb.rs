@@ -92,15 +92,24 @@ impl Aabb {
     /// 0·inf = NaN for that plane: it is inside that slab along its whole
     /// length. (Left to `min`/`max`, the NaN would be dropped in favour of
     /// the other plane's ±inf, and the ray lost.)
+    #[inline]
     pub fn clip(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<(f64, f64)> {
-        let inv = ray.dir.recip();
+        self.clip_with(ray, ray.dir.recip(), t_min, t_max)
+    }
+
+    /// [`Aabb::clip`] with `inv = ray.dir.recip()` worked out by the
+    /// caller (once for several boxes). Plain comparisons, not `f64::min`
+    /// and `max`, whose NaN handling costs several instructions each:
+    /// nothing here is NaN by then (a NaN slab is skipped), so they give
+    /// the same values.
+    #[inline(always)]
+    pub fn clip_with(&self, ray: &Ray, inv: DVec3, t_min: f64, t_max: f64) -> Option<(f64, f64)> {
         let t0 = (self.min - ray.origin) * inv;
         let t1 = (self.max - ray.origin) * inv;
-        let in_plane = t0.is_nan_mask() | t1.is_nan_mask();
-        let near = DVec3::select(in_plane, DVec3::NEG_INFINITY, t0.min(t1));
-        let far = DVec3::select(in_plane, DVec3::INFINITY, t0.max(t1));
-        let lo = t_min.max(near.x).max(near.y).max(near.z);
-        let hi = t_max.min(far.x).min(far.y).min(far.z);
+        let (mut lo, mut hi) = (t_min, t_max);
+        slab(t0.x, t1.x, &mut lo, &mut hi);
+        slab(t0.y, t1.y, &mut lo, &mut hi);
+        slab(t0.z, t1.z, &mut lo, &mut hi);
         (lo <= hi).then_some((lo, hi))
     }
 
@@ -128,6 +137,23 @@ impl Aabb {
                 if i & 4 == 0 { self.min.z } else { self.max.z },
             )
         })
+    }
+}
+
+/// Narrows (lo, hi) to one slab's stretch (a, c) in either order; a NaN
+/// (0·∞: the ray runs in the plane of a face) leaves it as it is, the ray
+/// being inside that slab all along.
+#[inline(always)]
+fn slab(a: f64, c: f64, lo: &mut f64, hi: &mut f64) {
+    if a.is_nan() || c.is_nan() {
+        return;
+    }
+    let (near, far) = if a < c { (a, c) } else { (c, a) };
+    if near > *lo {
+        *lo = near;
+    }
+    if far < *hi {
+        *hi = far;
     }
 }
 

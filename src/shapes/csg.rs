@@ -131,34 +131,11 @@ fn same_t(a: f64, b: f64) -> bool {
     (b - a).abs() <= 1e-9 * magnitude(a)
 }
 
-/// [`Aabb::clip`] made of plain comparisons, which CSG runs several times
-/// per ray. A NaN slab (a ray in the plane of a face) is ignored, so the
-/// stretch can only come out wider, never lose a hit.
-/// `inv` is `ray.dir.recip()`, worked out once for all the boxes.
-fn clip(b: &Aabb, ray: &Ray, inv: DVec3, t_min: f64, t_max: f64) -> Option<(f64, f64)> {
-    let t0 = (b.min - ray.origin) * inv;
-    let t1 = (b.max - ray.origin) * inv;
-    let (mut lo, mut hi) = (t_min, t_max);
-    slab(t0.x, t1.x, &mut lo, &mut hi);
-    slab(t0.y, t1.y, &mut lo, &mut hi);
-    slab(t0.z, t1.z, &mut lo, &mut hi);
-    (lo <= hi).then_some((lo, hi))
-}
-
-/// Narrows (lo, hi) to one slab's stretch (a, c) in either order; a NaN
-/// (0·∞: the ray runs in the plane of a face) leaves it as it is.
+/// [`Aabb::clip_with`]: `inv` is `ray.dir.recip()`, worked out once for
+/// all the boxes (CSG clips several per ray).
 #[inline(always)]
-fn slab(a: f64, c: f64, lo: &mut f64, hi: &mut f64) {
-    if a.is_nan() || c.is_nan() {
-        return;
-    }
-    let (near, far) = if a < c { (a, c) } else { (c, a) };
-    if near > *lo {
-        *lo = near;
-    }
-    if far < *hi {
-        *hi = far;
-    }
+fn clip(b: &Aabb, ray: &Ray, inv: DVec3, t_min: f64, t_max: f64) -> Option<(f64, f64)> {
+    b.clip_with(ray, inv, t_min, t_max)
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
