@@ -222,6 +222,7 @@ impl SampleStream {
 
 /// Square → unit disc, Shirley and Chiu's concentric map (keeps strata
 /// compact, unlike r = √a).
+#[inline(always)]
 pub fn concentric_disc((a, b): (f64, f64)) -> (f64, f64) {
     let (x, y) = (2.0 * a - 1.0, 2.0 * b - 1.0);
     if x == 0.0 && y == 0.0 {
