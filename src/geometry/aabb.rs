@@ -161,6 +161,47 @@ fn slab(a: f64, c: f64, lo: &mut f64, hi: &mut f64) {
 mod tests {
     use super::*;
 
+    /// The clip as it was written with `f64::min`/`max` and a NaN mask
+    /// (a slab in a face's plane taken as −∞..∞), before the plain
+    /// comparisons: the same stretch for every ray, a face's plane
+    /// included.
+    fn clip_by_min_max(b: &Aabb, ray: &Ray, t_min: f64, t_max: f64) -> Option<(f64, f64)> {
+        let inv = ray.dir.recip();
+        let t0 = (b.min - ray.origin) * inv;
+        let t1 = (b.max - ray.origin) * inv;
+        let in_plane = t0.is_nan_mask() | t1.is_nan_mask();
+        let near = DVec3::select(in_plane, DVec3::NEG_INFINITY, t0.min(t1));
+        let far = DVec3::select(in_plane, DVec3::INFINITY, t0.max(t1));
+        let lo = t_min.max(near.x).max(near.y).max(near.z);
+        let hi = t_max.min(far.x).min(far.y).min(far.z);
+        (lo <= hi).then_some((lo, hi))
+    }
+
+    #[test]
+    fn plain_comparisons_clip_as_min_and_max_did() {
+        let b = Aabb::new(DVec3::new(-1.0, 0.0, -0.5), DVec3::new(1.0, 2.0, 0.5));
+        let mut rays =
+            crate::shapes::testing::rays_towards(DVec3::new(0.0, 1.0, 0.0), 2.0, 500, 71);
+        // Axis-parallel: inside, in the plane of a face, beside the box.
+        for x in [0.0, 1.0, 3.0] {
+            rays.push(Ray::new(DVec3::new(x, 1.0, -5.0), DVec3::Z));
+            rays.push(Ray::new(DVec3::new(x, 1.0, 5.0), -DVec3::Z));
+        }
+        let mut hits = 0;
+        for r in &rays {
+            for (lo, hi) in [(0.0, f64::INFINITY), (9.0, 10.0), (f64::NEG_INFINITY, 9.5)] {
+                let got = b.clip(r, lo, hi);
+                assert_eq!(got, clip_by_min_max(&b, r, lo, hi), "{r:?} {lo}..{hi}");
+                assert_eq!(got, b.clip_with(r, r.dir.recip(), lo, hi));
+                hits += got.is_some() as usize;
+            }
+        }
+        assert!(hits > 300, "{hits}");
+        // The line in the plane x = 1 (of the face) still meets the box.
+        let along = Ray::new(DVec3::new(1.0, 1.0, -5.0), DVec3::Z);
+        assert_eq!(b.clip(&along, 0.0, 99.0), Some((4.5, 5.5)));
+    }
+
     #[test]
     fn a_padded_box_and_the_corners_of_one() {
         let b = Aabb::new(DVec3::new(1.0, -2.0, 3.0), DVec3::new(4.0, 5.0, 6.0));

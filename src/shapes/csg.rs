@@ -131,13 +131,6 @@ fn same_t(a: f64, b: f64) -> bool {
     (b - a).abs() <= 1e-9 * magnitude(a)
 }
 
-/// [`Aabb::clip_with`]: `inv` is `ray.dir.recip()`, worked out once for
-/// all the boxes (CSG clips several per ray).
-#[inline(always)]
-fn clip(b: &Aabb, ray: &Ray, inv: DVec3, t_min: f64, t_max: f64) -> Option<(f64, f64)> {
-    b.clip_with(ray, inv, t_min, t_max)
-}
-
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Reach {
     Nowhere,
@@ -266,7 +259,11 @@ impl Csg {
             Reach::Bounded => true,
             Reach::Unbounded => false,
         };
-        if bounded && clip(&self.child_bounds[i], ray, inv, span.0, span.1).is_none() {
+        if bounded
+            && self.child_bounds[i]
+                .clip_with(ray, inv, span.0, span.1)
+                .is_none()
+        {
             return false;
         }
         let first = s.xs.len();
@@ -473,7 +470,7 @@ impl Csg {
                 Reach::Nowhere => {}
                 Reach::Bounded => reach(
                     i,
-                    clip(&self.child_bounds[i], ray, inv, t_min, t_max),
+                    self.child_bounds[i].clip_with(ray, inv, t_min, t_max),
                     &mut live,
                 ),
                 Reach::Unbounded => unbounded |= 1 << i,
@@ -538,7 +535,7 @@ impl Csg {
         match self.extent {
             Reach::Nowhere => false,
             Reach::Unbounded => true,
-            Reach::Bounded => clip(&self.bounds, ray, ray.dir.recip(), t_min, t_max).is_some(),
+            Reach::Bounded => self.bounds.clip(ray, t_min, t_max).is_some(),
         }
     }
 }
@@ -622,7 +619,9 @@ impl Shape for Csg {
                 // no cheaper to clip than the child (a plane) is to ask.
                 let near = match self.reach[i] {
                     Reach::Nowhere => false,
-                    Reach::Bounded => clip(&self.child_bounds[i], ray, inv, t_min, t_max).is_some(),
+                    Reach::Bounded => self.child_bounds[i]
+                        .clip_with(ray, inv, t_min, t_max)
+                        .is_some(),
                     Reach::Unbounded => true,
                 };
                 if near && self.children[i].occludes(ray, t_min, t_max) {

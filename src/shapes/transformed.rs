@@ -47,12 +47,10 @@ impl Transformed {
     /// sign of a zero), so such a shape skips the matrices with the same
     /// bits, at a fraction of the cost.
     fn axes_of(t: &Transform) -> Option<Axes> {
-        let plain = |m: &DMat4| {
-            let d = DMat3::from_mat4(*m);
-            let diagonal = DMat3::from_diagonal(DVec3::new(d.x_axis.x, d.y_axis.y, d.z_axis.z));
-            d == diagonal && m.row(3) == DVec4::W
-        };
         let diagonal = |m: &DMat4| DVec3::new(m.x_axis.x, m.y_axis.y, m.z_axis.z);
+        let plain = |m: &DMat4| {
+            DMat3::from_mat4(*m) == DMat3::from_diagonal(diagonal(m)) && m.row(3) == DVec4::W
+        };
         (plain(&t.matrix) && plain(&t.inverse)).then(|| Axes {
             scale: diagonal(&t.matrix),
             forward: t.matrix.w_axis.truncate(),
@@ -79,27 +77,28 @@ impl Transformed {
     /// In place: a hit is 160 bytes, and each copy on the way out of a
     /// nearest-hit query is a `memcpy`.
     fn to_world(&self, h: &mut Hit) {
-        if let Some(a) = self.axes {
-            // `Transform::normal` and `transform_point_error` less the
-            // zeros: the inverse transpose of a diagonal is the inverse.
-            let same = h.normal == h.geo_normal;
-            h.normal *= a.inv;
-            h.geo_normal = if same { h.normal } else { h.geo_normal * a.inv };
-            let s = a.scale.abs();
-            let mag = s * h.point.abs() + a.forward.abs();
-            h.p_error = (gamma(3) + 1.0) * (s * h.p_error) + gamma(3) * mag;
-            h.point = a.forward + a.scale * h.point;
-            return;
-        }
+        // `Transform::normal` and `transform_point_error` less the zeros
+        // along the axes: the inverse transpose of a diagonal is the
+        // inverse.
+        let normal = |n: DVec3| match self.axes {
+            Some(a) => n * a.inv,
+            None => self.transform.normal(n),
+        };
         // Most shapes give one vector for both normals: map it once.
         let same = h.normal == h.geo_normal;
-        h.normal = self.transform.normal(h.normal);
-        h.geo_normal = if same {
-            h.normal
-        } else {
-            self.transform.normal(h.geo_normal)
+        h.normal = normal(h.normal);
+        h.geo_normal = if same { h.normal } else { normal(h.geo_normal) };
+        (h.point, h.p_error) = match self.axes {
+            Some(a) => {
+                let s = a.scale.abs();
+                let mag = s * h.point.abs() + a.forward.abs();
+                (
+                    a.forward + a.scale * h.point,
+                    (gamma(3) + 1.0) * (s * h.p_error) + gamma(3) * mag,
+                )
+            }
+            None => transform_point_error(&self.transform.matrix, h.point, h.p_error),
         };
-        (h.point, h.p_error) = transform_point_error(&self.transform.matrix, h.point, h.p_error);
     }
 }
 
