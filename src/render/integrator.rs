@@ -23,7 +23,9 @@ use super::stats::RayCounts;
 use crate::accel::{Blockers, Shaft, World};
 use crate::geometry::Aabb;
 use crate::geometry::rounding::SHADOW_EPSILON;
-use crate::geometry::{DVec3, Ray, offset_along_unit, offset_ray_origin, valid_reflection_normal};
+use crate::geometry::{
+    DVec3, Ray, normalize_near_unit, offset_along_unit, offset_ray_origin, valid_reflection_normal,
+};
 use crate::scene::{AreaLight, Colour, LightKind, LightSurface, Material, Scene, pattern};
 use crate::shapes::{Hit, Shape};
 
@@ -202,7 +204,7 @@ impl<'a> Integrator<'a> {
         let material = pattern::resolve(&self.scene.materials, hit, |h| object.uv(h));
         // The geometric normal decides the side; the shading normal is kept
         // in its hemisphere.
-        let mut ng = hit.geo_normal.normalize_or_zero();
+        let mut ng = normalize_near_unit(hit.geo_normal);
         let front = ng.dot(ray.dir) <= 0.0;
         if !front {
             ng = -ng;
@@ -221,7 +223,7 @@ impl<'a> Integrator<'a> {
         let (p, p_err) = (hit.point, hit.p_error);
         // What `offset_ray_origin` would make of ng, once for every ray
         // this point spawns.
-        let ng_offset = ng.normalize_or_zero();
+        let ng_offset = normalize_near_unit(ng);
         let at = Shading {
             p,
             p_err,
