@@ -48,6 +48,16 @@ impl Aabb {
         }
     }
 
+    /// Whether the two boxes share no interior point: on some axis one
+    /// ends where or before the other begins (boxes that only touch are
+    /// apart; an empty box is apart from everything).
+    pub fn apart(&self, o: &Aabb) -> bool {
+        self.max.cmple(o.min).any()
+            || o.max.cmple(self.min).any()
+            || self.is_empty()
+            || o.is_empty()
+    }
+
     /// The box widened by `pad` on every side.
     pub fn padded(&self, pad: f64) -> Aabb {
         let pad = DVec3::splat(pad);
@@ -160,6 +170,23 @@ fn slab(a: f64, c: f64, lo: &mut f64, hi: &mut f64) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Apart means no shared interior: separated or touching on a face,
+    /// edge or corner; any overlap, however thin, is not apart.
+    #[test]
+    fn boxes_apart_share_no_interior() {
+        let unit = Aabb::new(DVec3::ZERO, DVec3::ONE);
+        let moved = |d: DVec3| Aabb::new(d, d + DVec3::ONE);
+        for d in [DVec3::X, -DVec3::Y, DVec3::Z * 2.0, DVec3::ONE, DVec3::new(1.0, 0.5, 0.5)] {
+            assert!(unit.apart(&moved(d)) && moved(d).apart(&unit), "{d}");
+        }
+        let thin = DVec3::new(1.0 - 1e-12, 0.5, -0.5);
+        for d in [DVec3::ZERO, thin, DVec3::splat(0.5), -thin] {
+            assert!(!unit.apart(&moved(d)) && !moved(d).apart(&unit), "{d}");
+        }
+        assert!(!unit.apart(&Aabb::INFINITE));
+        assert!(unit.apart(&Aabb::EMPTY) && Aabb::EMPTY.apart(&Aabb::INFINITE));
+    }
 
     /// The clip as it was written with `f64::min`/`max` and a NaN mask
     /// (a slab in a face's plane taken as −∞..∞), before the plain

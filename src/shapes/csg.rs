@@ -31,12 +31,19 @@
 //! digit to [`Hit::path`], so that texture coordinates, computed only for
 //! the hit that is shaded, are asked of the shape that made it.
 //!
-//! Shortcuts, each exact: a union's child whose reach along the ray (its
-//! box, or an unbounded child's first to last crossing) overlaps no other
-//! child's is asked for its nearest hit directly (the floor under a few
-//! solids); an intersection (after any child) or a difference (after its
-//! first child) stops as soon as what that child encloses misses the
-//! window asked about, and narrows the window for the children after it.
+//! Shortcuts, each exact: a union whose children are pairwise clear of
+//! each other (their boxes apart, or a bounded child's box in front of a
+//! plane: solids standing on the floor) has no inner surfaces, so its
+//! nearest hit, and what blocks a shadow ray, is its children's nearest,
+//! with no sweep, for a ray that starts outside every child (one starting
+//! inside may pass from one child straight into another where they
+//! touch, and the sweep merges those crossings); in other unions
+//! a child whose reach along the ray (its box, or an unbounded child's
+//! first to last crossing) overlaps no other child's is asked for its
+//! nearest hit directly (the floor under a few solids); an intersection
+//! (after any child) or a difference (after its first child) stops as
+//! soon as what that child encloses misses the window asked about, and
+//! narrows the window for the children after it.
 
 use super::{Crossing, Hit, Shape};
 use crate::geometry::{Aabb, DVec2, DVec3, Ray};
@@ -63,6 +70,16 @@ pub struct Csg {
     bounds: Aabb,
     /// The same for the result's own bounds.
     extent: Reach,
+    /// A union whose children are pairwise clear of each other
+    /// ([`Shape::clear_of`]): no child's surface lies inside another, so
+    /// the result's crossings are all the children's and its nearest hit
+    /// is theirs, with no sweep.
+    disjoint: bool,
+    /// Per child of a `disjoint` union, the other children it may touch
+    /// (not apart with a little room to spare), as bits.
+    touch: Vec<u64>,
+    /// Whether any two children may touch.
+    touches: bool,
     /// The material the block gives its children (its own or inherited):
     /// hits wearing it have their solid-texture point in this block's
     /// space, see [`Csg::texture_space`].
@@ -147,6 +164,55 @@ struct Count {
     first: bool,
 }
 
+/// The widest union checked for pairwise clear children (the check is
+/// quadratic, once per union).
+const CLEAR_MAX: usize = 64;
+
+/// Whether every two children are clear of each other: two bounded ones
+/// by their boxes, a bounded one and an unbounded one by asking the
+/// unbounded one about the other's box; two unbounded ones never are.
+fn pairwise_clear(children: &[Box<dyn Shape>], bounds: &[Aabb], reach: &[Reach]) -> bool {
+    let n = children.len();
+    if n > CLEAR_MAX {
+        return false;
+    }
+    (0..n).all(|i| {
+        (i + 1..n).all(|j| match (reach[i], reach[j]) {
+            (Reach::Nowhere, _) | (_, Reach::Nowhere) => true,
+            (Reach::Bounded, Reach::Bounded) => bounds[i].apart(&bounds[j]),
+            (Reach::Bounded, Reach::Unbounded) => children[j].clear_of(&bounds[i]),
+            (Reach::Unbounded, Reach::Bounded) => children[i].clear_of(&bounds[j]),
+            (Reach::Unbounded, Reach::Unbounded) => false,
+        })
+    })
+}
+
+/// For children that are pairwise clear, which pairs may touch: those no
+/// longer clear once one's box grows by a billionth of its size (and a
+/// billionth), so that crossings within the sweep's tolerance of each
+/// other are caught.
+fn touching(children: &[Box<dyn Shape>], bounds: &[Aabb], reach: &[Reach]) -> Vec<u64> {
+    let n = children.len();
+    let grown = |b: &Aabb| b.padded(1e-9 * (1.0 + b.min.abs().max(b.max.abs()).max_element()));
+    let mut touch = vec![0u64; n];
+    for i in 0..n {
+        for j in i + 1..n {
+            let apart = match (reach[i], reach[j]) {
+                (Reach::Nowhere, _) | (_, Reach::Nowhere) => true,
+                (Reach::Bounded, Reach::Bounded) => grown(&bounds[i]).apart(&bounds[j]),
+                (Reach::Bounded, Reach::Unbounded) => children[j].clear_of(&grown(&bounds[i])),
+                (Reach::Unbounded, Reach::Bounded) => children[i].clear_of(&grown(&bounds[j])),
+                (Reach::Unbounded, Reach::Unbounded) => false,
+            };
+            if !apart {
+                touch[i] |= 1 << j;
+                touch[j] |= 1 << i;
+            }
+        }
+    }
+    touch
+}
+
 impl Csg {
     /// Every child must be solid (`is_solid()`); the builder checks that.
     pub fn new(op: CsgOp, children: Vec<Box<dyn Shape>>) -> Self {
@@ -174,8 +240,14 @@ impl Csg {
                 Reach::Unbounded
             }
         };
-        let reach = child_bounds.iter().map(reach_of).collect();
+        let reach: Vec<Reach> = child_bounds.iter().map(reach_of).collect();
         let extent = reach_of(&bounds);
+        let disjoint = op == CsgOp::Union && pairwise_clear(&children, &child_bounds, &reach);
+        let touch = if disjoint {
+            touching(&children, &child_bounds, &reach)
+        } else {
+            Vec::new()
+        };
         Csg {
             op,
             children,
@@ -183,6 +255,9 @@ impl Csg {
             reach,
             bounds,
             extent,
+            disjoint,
+            touches: touch.iter().any(|&t| t != 0),
+            touch,
             texture_space: None,
         }
     }
@@ -547,6 +622,11 @@ impl Csg {
     /// is copied (160 bytes) at each level, and a union holding the floor
     /// is asked by every ray.
     fn nearest_into(&self, ray: &Ray, t_min: f64, t_max: f64, hit: &mut Hit) -> bool {
+        if self.disjoint
+            && let Some(found) = self.nearest_of_clear(ray, t_min, t_max, hit)
+        {
+            return found;
+        }
         // The lone children's nearest hit, as the child gave it: made the
         // result's (texture space, path) only if nothing swept is nearer.
         let mut found_child = None;
@@ -588,6 +668,80 @@ impl Csg {
     }
 }
 
+impl Csg {
+    /// [`Csg::nearest_into`] for a union of clear children: the nearest of
+    /// the children's own hits, each child asked only when its box meets
+    /// the ray before the nearest so far (as [`Csg::union_split`]'s lone
+    /// children are). A child's crossing lies inside no other child (they
+    /// share no interior), so it is the result's, unless a child touching
+    /// it has a crossing at nearly the same `t`: a ray passing from one
+    /// straight into the other through a face they share, or the point
+    /// where a ball touches the floor, crosses both at once, and the sweep
+    /// merges the two. Then `None` (the sweep decides), with `hit` put
+    /// back as it was.
+    fn nearest_of_clear(&self, ray: &Ray, t_min: f64, t_max: f64, hit: &mut Hit) -> Option<bool> {
+        let inv = ray.dir.recip();
+        // What to put back when the sweep must decide after all.
+        let before = self.touches.then_some(*hit);
+        let mut t_best = t_max;
+        let mut winner = None;
+        for (i, child) in self.children.iter().enumerate() {
+            if self.child_near(i, ray, inv, t_min, t_best)
+                && child.intersect_into(ray, t_min, t_best, hit)
+            {
+                t_best = hit.t;
+                winner = Some(i);
+            }
+        }
+        let Some(i) = winner else {
+            return Some(false);
+        };
+        if let Some(before) = before {
+            // Twice `same_t`'s reach on either side.
+            let pad = 2e-9 * magnitude(t_best);
+            let (lo, hi) = (t_best - pad, t_best + pad);
+            for j in bits(self.touch[i]) {
+                if self.child_near(j, ray, inv, lo, hi) && self.children[j].occludes(ray, lo, hi) {
+                    *hit = before;
+                    return None;
+                }
+            }
+        }
+        self.in_texture_space(ray, hit, i);
+        self.tag(hit, i as u32);
+        Some(true)
+    }
+
+    /// Whether child `i` may have a crossing within (lo, hi): its box
+    /// meets the ray there, or it is unbounded.
+    #[inline(always)]
+    fn child_near(&self, i: usize, ray: &Ray, inv: DVec3, lo: f64, hi: f64) -> bool {
+        match self.reach[i] {
+            Reach::Nowhere => false,
+            Reach::Bounded => self.child_bounds[i].clip_with(ray, inv, lo, hi).is_some(),
+            Reach::Unbounded => true,
+        }
+    }
+
+    /// The children that block the segment (t_min, t_max), as bits, for
+    /// a union's shadow test: the union is blocked only where one of them
+    /// is.
+    fn children_met(&self, ray: &Ray, t_min: f64, t_max: f64) -> u64 {
+        let inv = ray.dir.recip();
+        let mut m = 0u64;
+        for i in 0..self.children.len() {
+            // An unbounded child's box (all space, or a half-space) is
+            // no cheaper to clip than the child (a plane) is to ask.
+            if self.child_near(i, ray, inv, t_min, t_max)
+                && self.children[i].occludes(ray, t_min, t_max)
+            {
+                m |= 1 << i;
+            }
+        }
+        m
+    }
+}
+
 impl Shape for Csg {
     fn intersect(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<Hit> {
         let mut hit = Hit::default();
@@ -612,24 +766,14 @@ impl Shape for Csg {
         // A union wider than the mask's 64 bits skips the pre-test: the
         // sweep asks every child, the ones past the 64th included.
         let occluding = if self.op == CsgOp::Union && self.children.len() <= 64 {
-            let inv = ray.dir.recip();
-            let mut m = 0u64;
-            for i in 0..self.children.len() {
-                // An unbounded child's box (all space, or a half-space) is
-                // no cheaper to clip than the child (a plane) is to ask.
-                let near = match self.reach[i] {
-                    Reach::Nowhere => false,
-                    Reach::Bounded => self.child_bounds[i]
-                        .clip_with(ray, inv, t_min, t_max)
-                        .is_some(),
-                    Reach::Unbounded => true,
-                };
-                if near && self.children[i].occludes(ray, t_min, t_max) {
-                    m |= 1 << i;
-                }
-            }
+            let m = self.children_met(ray, t_min, t_max);
             if m == 0 {
                 return false;
+            }
+            // A child of clear ones that touches none: every crossing of
+            // its is the result's.
+            if self.disjoint && bits(m).any(|i| self.touch[i] == 0) {
+                return true;
             }
             m
         } else {

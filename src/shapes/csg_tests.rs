@@ -738,3 +738,110 @@ fn a_union_wider_than_64_children_shadows_through_every_child() {
 // line and the hit's path: in a file of their own, beside these.
 #[path = "csg_edge_tests.rs"]
 mod edge;
+
+/// Which unions count as made of clear children, and which of those
+/// children may touch: balls and a box standing on the floor apart from
+/// each other are clear, each touching the floor only; a box stacked on
+/// another touches it; overlapping solids, or two planes, are not clear.
+#[test]
+fn a_union_knows_when_its_children_are_clear_of_each_other() {
+    let floor = || Box::new(Plane::new(DVec3::Y, 0.0, 3)) as Box<dyn Shape>;
+    let standing = Csg::new(
+        CsgOp::Union,
+        vec![
+            sphere(DVec3::new(-2.0, 1.0, 0.0), 1.0, 1),
+            cube(DVec3::new(0.5, 0.0, -0.5), DVec3::new(1.5, 2.0, 0.5), 2),
+            floor(),
+            sphere(DVec3::new(0.0, 3.0, 0.0), 0.5, 4),
+        ],
+    );
+    assert!(standing.disjoint);
+    assert_eq!(standing.touch, vec![0b100, 0b100, 0b011, 0]);
+    let stacked = Csg::new(
+        CsgOp::Union,
+        vec![
+            cube(DVec3::ZERO, DVec3::ONE, 1),
+            cube(DVec3::Y, DVec3::new(1.0, 2.0, 1.0), 2),
+        ],
+    );
+    assert!(stacked.disjoint);
+    assert_eq!(stacked.touch, vec![0b10, 0b01]);
+    let overlapping = [
+        vec![sphere(DVec3::ZERO, 1.0, 1), sphere(DVec3::X, 1.0, 2)],
+        vec![sphere(DVec3::new(0.0, 0.9, 0.0), 1.0, 1), floor()],
+        vec![floor(), Box::new(Plane::new(DVec3::X, 5.0, 3)) as Box<dyn Shape>],
+    ];
+    for children in overlapping {
+        assert!(!Csg::new(CsgOp::Union, children).disjoint);
+    }
+    // Only a union takes the shortcut.
+    let apart = || vec![sphere(-DVec3::X * 3.0, 1.0, 1), sphere(DVec3::X * 3.0, 1.0, 2)];
+    assert!(Csg::new(CsgOp::Union, apart()).disjoint);
+    assert!(!Csg::new(CsgOp::Difference, apart()).disjoint);
+}
+
+/// A union of clear children answers from their own nearest hits; that
+/// must be what the full crossing list says, in any window, for rays from
+/// outside and from inside a child, and where children touch (a ray going
+/// up through the face two stacked boxes share, which the union does not
+/// have, or through the point where a ball touches the floor).
+#[test]
+fn union_of_clear_children_agrees_with_the_sweep() {
+    let _watchdog = crate::watchdog::start();
+    let floor = || Box::new(Plane::new(DVec3::Y, 0.0, 3)) as Box<dyn Shape>;
+    let u = Csg::new(
+        CsgOp::Union,
+        vec![
+            sphere(DVec3::new(-1.5, 1.0, 0.0), 1.0, 1),
+            cube(DVec3::new(0.5, 0.0, -0.5), DVec3::new(1.5, 1.0, 0.5), 2),
+            floor(),
+            cube(DVec3::new(0.5, 1.0, -0.5), DVec3::new(1.5, 2.0, 0.5), 4),
+        ],
+    );
+    assert!(u.disjoint);
+    let mut rays = testing::rays_towards(DVec3::new(0.0, 1.0, 0.0), 2.5, 600, 71);
+    // From inside the lower box and the ball, straight up and aslant:
+    // through the shared face, the ball's top, the contact with the floor.
+    for (from, dir) in [
+        (DVec3::new(1.0, 0.5, 0.0), DVec3::Y),
+        (DVec3::new(1.2, 0.3, 0.1), DVec3::new(0.1, 1.0, -0.2)),
+        (DVec3::new(-1.5, 1.0, 0.0), DVec3::Y),
+        (DVec3::new(-1.5, 1.5, 0.0), -DVec3::Y),
+        (DVec3::new(-1.5, 5.0, 0.0), -DVec3::Y),
+        (DVec3::new(1.0, 5.0, 0.0), -DVec3::Y),
+        (DVec3::new(1.0, -0.5, 0.0), DVec3::Y),
+    ] {
+        rays.push(Ray::new(from, dir.normalize()));
+    }
+    let mut hits = 0;
+    for (k, r) in rays.iter().enumerate() {
+        let list = xs(&u, r);
+        for (lo, hi) in [
+            (1e-9, f64::INFINITY),
+            (-1.0, f64::INFINITY),
+            (0.2 + (k % 7) as f64 * 0.5, 9.0 + (k % 5) as f64),
+        ] {
+            let want = list.iter().find(|h| h.t > lo && h.t < hi);
+            let before = Hit {
+                t: -7.0,
+                material: 99,
+                path: 5,
+                ..Hit::default()
+            };
+            let mut into = before;
+            let found = u.intersect_into(r, lo, hi, &mut into);
+            assert_eq!(found, want.is_some(), "{r:?} window {lo}..{hi}");
+            match want {
+                Some(w) => assert_eq!(
+                    (into.t, into.material, into.path),
+                    (w.t, w.material, w.path),
+                    "{r:?} window {lo}..{hi}"
+                ),
+                None => assert_eq!((into.t, into.material, into.path), (-7.0, 99, 5)),
+            }
+            assert_eq!(u.occludes(r, lo, hi), want.is_some(), "{r:?} window {lo}..{hi}");
+            hits += usize::from(found);
+        }
+    }
+    assert!(hits > 800, "{hits}");
+}

@@ -238,6 +238,15 @@ pub trait Shape: Send + Sync + std::fmt::Debug {
         false
     }
 
+    /// Whether no interior point of the solid lies inside the box `b`
+    /// (touching its faces is allowed); false when unsure. A union whose
+    /// children are pairwise clear of each other has no inner surfaces to
+    /// remove (see [`super::csg`]). The default compares the bounds, which
+    /// says nothing for an unbounded shape.
+    fn clear_of(&self, b: &Aabb) -> bool {
+        self.bounds().apart(b)
+    }
+
     /// The texture coordinates of a hit this shape returned. The default is
     /// what the shape filled in as it went; shapes whose (u, v) need
     /// trigonometry compute them here instead, once per shaded hit.

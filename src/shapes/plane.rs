@@ -154,11 +154,52 @@ impl Shape for Plane {
     fn encloses(&self, p: DVec3) -> bool {
         self.normal.dot(p) <= self.offset
     }
+
+    /// Every corner of `b` on or in front of the plane, with a margin of
+    /// four times the rounding bound of n·c (zero for a corner whose
+    /// products are all zero, so that a box standing on an axis-aligned
+    /// floor counts as clear of it).
+    fn clear_of(&self, b: &Aabb) -> bool {
+        if b.is_empty() {
+            return true;
+        }
+        b.is_finite()
+            && b.corners().iter().all(|c| {
+                let margin = 4.0 * gamma(3) * self.normal.abs().dot(c.abs());
+                self.normal.dot(*c) >= self.offset + margin
+            })
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A box is clear of the half-space when it stands on or in front of
+    /// the plane: touching a floor counts, dipping into it by a hair does
+    /// not, and a tilted plane's rounding is allowed for.
+    #[test]
+    fn a_box_in_front_of_the_plane_is_clear_of_it() {
+        let floor = Plane::new(DVec3::Y, 0.0, 0);
+        let on = Aabb::new(DVec3::new(-1.0, 0.0, -1.0), DVec3::new(1.0, 2.0, 1.0));
+        assert!(floor.clear_of(&on));
+        let dipping = Aabb::new(DVec3::new(-1.0, -1e-12, -1.0), DVec3::new(1.0, 2.0, 1.0));
+        assert!(!floor.clear_of(&dipping));
+        assert!(!floor.clear_of(&Aabb::new(DVec3::splat(-3.0), DVec3::splat(-1.0))));
+        assert!(floor.clear_of(&Aabb::EMPTY));
+        assert!(!floor.clear_of(&Aabb::INFINITE));
+        // The solid is behind the normal: flipped, the same box is inside.
+        let ceiling = Plane::new(-DVec3::Y, 0.0, 0);
+        assert!(!ceiling.clear_of(&on.padded(-0.5)));
+        // A tilted plane x + y = 2 (offset √2 along the unit normal): a box
+        // whose nearest corner is well in front is clear; one whose corner
+        // lies exactly on the plane is not claimed (rounding could put it
+        // either side), nor one crossing it.
+        let tilted = Plane::new(DVec3::new(1.0, 1.0, 0.0), 2f64.sqrt(), 0);
+        assert!(tilted.clear_of(&Aabb::new(DVec3::new(1.5, 1.5, 0.0), DVec3::splat(3.0))));
+        assert!(!tilted.clear_of(&Aabb::new(DVec3::new(1.0, 1.0, 0.0), DVec3::splat(3.0))));
+        assert!(!tilted.clear_of(&Aabb::new(DVec3::ZERO, DVec3::splat(3.0))));
+    }
 
     #[test]
     fn floor_hit_and_uv() {
