@@ -177,7 +177,13 @@ mod tests {
     fn boxes_apart_share_no_interior() {
         let unit = Aabb::new(DVec3::ZERO, DVec3::ONE);
         let moved = |d: DVec3| Aabb::new(d, d + DVec3::ONE);
-        for d in [DVec3::X, -DVec3::Y, DVec3::Z * 2.0, DVec3::ONE, DVec3::new(1.0, 0.5, 0.5)] {
+        for d in [
+            DVec3::X,
+            -DVec3::Y,
+            DVec3::Z * 2.0,
+            DVec3::ONE,
+            DVec3::new(1.0, 0.5, 0.5),
+        ] {
             assert!(unit.apart(&moved(d)) && moved(d).apart(&unit), "{d}");
         }
         let thin = DVec3::new(1.0 - 1e-12, 0.5, -0.5);
@@ -186,6 +192,13 @@ mod tests {
         }
         assert!(!unit.apart(&Aabb::INFINITE));
         assert!(unit.apart(&Aabb::EMPTY) && Aabb::EMPTY.apart(&Aabb::INFINITE));
+        // Empty by one axis turned inside out, inside the other's range on
+        // every axis: no comparison of faces says so, emptiness does.
+        let inverted = Aabb {
+            min: DVec3::new(0.4, 0.8, 0.4),
+            max: DVec3::new(0.6, 0.2, 0.6),
+        };
+        assert!(unit.apart(&inverted) && inverted.apart(&unit));
     }
 
     /// The clip as it was written with `f64::min`/`max` and a NaN mask

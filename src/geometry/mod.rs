@@ -10,7 +10,7 @@ pub use aabb::Aabb;
 pub use glam::{DMat3, DMat4, DVec2, DVec3};
 pub use ray::Ray;
 pub use rounding::{
-    normalize_near_unit, offset_along_unit, offset_ray_origin, shadow_ray_to,
+    normalize_near_unit, offset_along_unit, offset_ray_origin, renormalize, shadow_ray_to,
     valid_reflection_normal,
 };
 pub use transform::Transform;

@@ -48,6 +48,17 @@ pub fn normalize_near_unit(v: DVec3) -> DVec3 {
     }
 }
 
+/// `v.normalize()` to the bit (glam's, which makes a zero vector NaN),
+/// as [`normalize_near_unit`]: a refracted direction, unit but for
+/// rounding, is normalised again.
+#[inline(always)]
+pub fn renormalize(v: DVec3) -> DVec3 {
+    match recip_sqrt_near_one(v.length_squared()) {
+        Some(f) => v * f,
+        None => v.normalize(),
+    }
+}
+
 /// `1 / √x` rounded as `1.0 / x.sqrt()` rounds it, for `x` within 2²⁰ ulp
 /// of 1; `None` further out. Near 1 both roundings follow from the bits:
 /// for x = 1 + d·ε (d ≥ 0, ε = 2⁻⁵² the spacing above 1) the root rounds
@@ -252,6 +263,15 @@ mod tests {
             same(v);
         }
         same(DVec3::new(f64::INFINITY, 0.0, 0.0));
+        // And `renormalize` as glam's `normalize`, zero (NaN) included.
+        let bits = |v: DVec3| v.to_array().map(f64::to_bits);
+        for v in [
+            DVec3::new(0.6, 0.8, 1e-17),
+            DVec3::new(3.0, 4.0, 0.0),
+            DVec3::ZERO,
+        ] {
+            assert_eq!(bits(renormalize(v)), bits(v.normalize()), "{v}");
+        }
     }
     use crate::render::material::mirror::reflect;
 

@@ -769,15 +769,55 @@ fn a_union_knows_when_its_children_are_clear_of_each_other() {
     let overlapping = [
         vec![sphere(DVec3::ZERO, 1.0, 1), sphere(DVec3::X, 1.0, 2)],
         vec![sphere(DVec3::new(0.0, 0.9, 0.0), 1.0, 1), floor()],
-        vec![floor(), Box::new(Plane::new(DVec3::X, 5.0, 3)) as Box<dyn Shape>],
+        vec![
+            floor(),
+            Box::new(Plane::new(DVec3::X, 5.0, 3)) as Box<dyn Shape>,
+        ],
     ];
     for children in overlapping {
         assert!(!Csg::new(CsgOp::Union, children).disjoint);
     }
     // Only a union takes the shortcut.
-    let apart = || vec![sphere(-DVec3::X * 3.0, 1.0, 1), sphere(DVec3::X * 3.0, 1.0, 2)];
+    let apart = || {
+        vec![
+            sphere(-DVec3::X * 3.0, 1.0, 1),
+            sphere(DVec3::X * 3.0, 1.0, 2),
+        ]
+    };
     assert!(Csg::new(CsgOp::Union, apart()).disjoint);
     assert!(!Csg::new(CsgOp::Difference, apart()).disjoint);
+    // Up to the 64 children a bit set holds, and no further.
+    let row = |n: usize| {
+        let balls = (0..n)
+            .map(|i| sphere(DVec3::X * (3 * i) as f64, 1.0, 1))
+            .collect();
+        Csg::new(CsgOp::Union, balls)
+    };
+    assert!(row(64).disjoint);
+    assert!(!row(65).disjoint);
+    // Touching is judged with a little room, a billionth of the boxes'
+    // size and distance from the origin (and a billionth): millimetre
+    // boxes at the origin 1e-10 apart touch, 1e-6 apart do not; boxes a
+    // thousand units out touch 1e-8 apart, not 1e-4.
+    let cubes = |at: f64, size: f64, gap: f64| {
+        let a = DVec3::splat(at);
+        let b = a + DVec3::splat(size + gap);
+        Csg::new(
+            CsgOp::Union,
+            vec![cube(a, a + size, 1), cube(b, b + size, 2)],
+        )
+    };
+    for (at, size, gap, touch) in [
+        (0.0, 1e-3, 1e-10, true),
+        (0.0, 1e-3, 1e-6, false),
+        (1000.0, 1.0, 1e-8, true),
+        (1000.0, 1.0, 1e-4, false),
+    ] {
+        let pair = cubes(at, size, gap);
+        assert!(pair.disjoint);
+        let want = if touch { vec![0b10, 0b01] } else { vec![0, 0] };
+        assert_eq!(pair.touch, want, "at {at} gap {gap}");
+    }
 }
 
 /// A union of clear children answers from their own nearest hits; that
@@ -839,7 +879,11 @@ fn union_of_clear_children_agrees_with_the_sweep() {
                 ),
                 None => assert_eq!((into.t, into.material, into.path), (-7.0, 99, 5)),
             }
-            assert_eq!(u.occludes(r, lo, hi), want.is_some(), "{r:?} window {lo}..{hi}");
+            assert_eq!(
+                u.occludes(r, lo, hi),
+                want.is_some(),
+                "{r:?} window {lo}..{hi}"
+            );
             hits += usize::from(found);
         }
     }

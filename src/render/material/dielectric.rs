@@ -14,7 +14,7 @@
 //! Result: k_r · f_out^s_r ⊙ L(reflected) + (k_t/η²) · f_in^s_t ⊙ L(refracted),
 //! s the distance each ray travels to its next hit (Beer's law, filter^s).
 
-use crate::geometry::DVec3;
+use crate::geometry::{DVec3, renormalize};
 use crate::scene::{Colour, Dielectric, Filter};
 
 /// The two sides of the surface as this ray meets them.
@@ -76,7 +76,8 @@ pub fn split(d: DVec3, n: DVec3, eta: f64) -> Split {
     let t = d / eta - (cos_t - cos_i / eta) * n;
     Split {
         kr,
-        refracted: Some(t.normalize()),
+        // Unit but for rounding: normalised again without a square root.
+        refracted: Some(renormalize(t)),
     }
 }
 
