@@ -265,13 +265,18 @@ mod tests {
         same(DVec3::new(f64::INFINITY, 0.0, 0.0));
         // And `renormalize` as glam's `normalize`, zero (NaN) included.
         let bits = |v: DVec3| v.to_array().map(f64::to_bits);
+        let tilted = DVec3::new(0.3, -0.5, 0.7).normalize();
         for v in [
-            DVec3::new(0.6, 0.8, 1e-17),
+            DVec3::new(1.0, 2e-8, 0.0),
+            tilted,
+            tilted * (1.0 + 4e-16),
             DVec3::new(3.0, 4.0, 0.0),
             DVec3::ZERO,
         ] {
             assert_eq!(bits(renormalize(v)), bits(v.normalize()), "{v}");
         }
+        // Within reach and not exactly unit: the factor is not 1.
+        assert_ne!(renormalize(DVec3::new(1.0, 2e-8, 0.0)).x, 1.0);
     }
     use crate::render::material::mirror::reflect;
 
