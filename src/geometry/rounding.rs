@@ -240,13 +240,7 @@ mod tests {
                 "{v}"
             );
         };
-        let mut rng = 0x2545_f491_4f6c_dd1du64;
-        let mut next = move || {
-            rng ^= rng << 13;
-            rng ^= rng >> 7;
-            rng ^= rng << 17;
-            (rng >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-        };
+        let mut next = crate::shapes::testing::numbers(0x2545_f491_4f6c_dd1d);
         let mut near = 0;
         for _ in 0..200_000 {
             let raw = DVec3::new(next(), next(), next());

@@ -568,6 +568,40 @@ fn lite_crossings_rebuild_the_same_hits() {
     assert!(seen > 1000, "{seen}");
 }
 
+/// `u`'s answers in the window (lo, hi) against its crossing list
+/// `list`: the nearest hit by value and written in place (on a miss the
+/// caller's hit, a nearer one found elsewhere, stays as it was), and the
+/// shadow test. Whether it hit.
+fn agrees_with_the_list(u: &Csg, r: &Ray, list: &[Hit], lo: f64, hi: f64) -> bool {
+    let want = list.iter().find(|h| h.t > lo && h.t < hi);
+    let got = u.intersect(r, lo, hi);
+    let key = |h: &Hit| (h.t, h.material, h.path);
+    assert_eq!(
+        got.as_ref().map(key),
+        want.map(key),
+        "{r:?} window {lo}..{hi}"
+    );
+    assert_eq!(
+        u.occludes(r, lo, hi),
+        want.is_some(),
+        "{r:?} window {lo}..{hi}"
+    );
+    let before = Hit {
+        t: -7.0,
+        material: 99,
+        path: 5,
+        ..Hit::default()
+    };
+    let mut into = before;
+    assert_eq!(u.intersect_into(r, lo, hi, &mut into), want.is_some());
+    assert_eq!(
+        key(&into),
+        want.map_or(key(&before), key),
+        "{r:?} window {lo}..{hi}"
+    );
+    want.is_some()
+}
+
 #[test]
 fn union_of_apart_children_agrees_with_the_sweep() {
     let _watchdog = crate::watchdog::start();
@@ -600,32 +634,7 @@ fn union_of_apart_children_agrees_with_the_sweep() {
         } else {
             lo + 1.0 + (k % 5) as f64
         };
-        let want = list.iter().find(|h| h.t > lo && h.t < hi);
-        let got = u.intersect(r, lo, hi);
-        assert_eq!(got.map(|h| h.t), want.map(|h| h.t), "window {lo}..{hi}");
-        assert_eq!(got.map(|h| h.material), want.map(|h| h.material));
-        assert_eq!(got.map(|h| h.path), want.map(|h| h.path));
-        assert_eq!(u.occludes(r, lo, hi), want.is_some());
-        // Written in place, the same hit; on a miss the caller's hit (a
-        // nearer one found elsewhere) stays as it was.
-        let before = Hit {
-            t: -7.0,
-            material: 99,
-            path: 5,
-            ..Hit::default()
-        };
-        let mut into = before;
-        assert_eq!(u.intersect_into(r, lo, hi, &mut into), want.is_some());
-        match want {
-            Some(w) => {
-                assert_eq!(
-                    (into.t, into.material, into.path),
-                    (w.t, w.material, w.path)
-                );
-            }
-            None => assert_eq!((into.t, into.material, into.path), (before.t, 99, 5)),
-        }
-        hits += got.is_some() as usize;
+        hits += usize::from(agrees_with_the_list(&u, r, &list, lo, hi));
     }
     assert!(hits > 300, "{hits}");
 }
@@ -861,30 +870,7 @@ fn union_of_clear_children_agrees_with_the_sweep() {
             (-1.0, f64::INFINITY),
             (0.2 + (k % 7) as f64 * 0.5, 9.0 + (k % 5) as f64),
         ] {
-            let want = list.iter().find(|h| h.t > lo && h.t < hi);
-            let before = Hit {
-                t: -7.0,
-                material: 99,
-                path: 5,
-                ..Hit::default()
-            };
-            let mut into = before;
-            let found = u.intersect_into(r, lo, hi, &mut into);
-            assert_eq!(found, want.is_some(), "{r:?} window {lo}..{hi}");
-            match want {
-                Some(w) => assert_eq!(
-                    (into.t, into.material, into.path),
-                    (w.t, w.material, w.path),
-                    "{r:?} window {lo}..{hi}"
-                ),
-                None => assert_eq!((into.t, into.material, into.path), (-7.0, 99, 5)),
-            }
-            assert_eq!(
-                u.occludes(r, lo, hi),
-                want.is_some(),
-                "{r:?} window {lo}..{hi}"
-            );
-            hits += usize::from(found);
+            hits += usize::from(agrees_with_the_list(&u, r, &list, lo, hi));
         }
     }
     assert!(hits > 800, "{hits}");
