@@ -42,10 +42,7 @@ pub fn offset_ray_origin(p: DVec3, p_error: DVec3, n_geo: DVec3, dir: DVec3) -> 
 /// square roots and two divisions was a tenth of a depth-of-field render.
 #[inline(always)]
 pub fn normalize_near_unit(v: DVec3) -> DVec3 {
-    match recip_sqrt_near_one(v.length_squared()) {
-        Some(f) => v * f,
-        None => v.normalize_or_zero(),
-    }
+    near_unit_or(v, DVec3::normalize_or_zero)
 }
 
 /// `v.normalize()` to the bit (glam's, which makes a zero vector NaN),
@@ -53,9 +50,16 @@ pub fn normalize_near_unit(v: DVec3) -> DVec3 {
 /// rounding, is normalised again.
 #[inline(always)]
 pub fn renormalize(v: DVec3) -> DVec3 {
+    near_unit_or(v, DVec3::normalize)
+}
+
+/// `v` scaled by the rounded 1/|v| when |v|² is within reach of 1,
+/// otherwise what `far` (glam's own normalisation) makes of it.
+#[inline(always)]
+fn near_unit_or(v: DVec3, far: impl FnOnce(DVec3) -> DVec3) -> DVec3 {
     match recip_sqrt_near_one(v.length_squared()) {
         Some(f) => v * f,
-        None => v.normalize(),
+        None => far(v),
     }
 }
 

@@ -34,11 +34,12 @@
 //! Shortcuts, each exact: a union whose children are pairwise clear of
 //! each other (their boxes apart, or a bounded child's box in front of a
 //! plane: solids standing on the floor) has no inner surfaces, so its
-//! nearest hit, and what blocks a shadow ray, is its children's nearest,
-//! with no sweep, for a ray that starts outside every child (one starting
-//! inside may pass from one child straight into another where they
-//! touch, and the sweep merges those crossings); in other unions
-//! a child whose reach along the ray (its box, or an unbounded child's
+//! nearest hit is its children's nearest, and a shadow ray met by a
+//! child that touches no other is blocked, with no sweep (where two
+//! children touch, a ray may pass from one straight into the other,
+//! crossing both at once, and the sweep merges those crossings: a
+//! touching child crossed next to the nearest hit sends the ray there);
+//! in other unions a child whose reach along the ray (its box, or an unbounded child's
 //! first to last crossing) overlaps no other child's is asked for its
 //! nearest hit directly (the floor under a few solids); an intersection
 //! (after any child) or a difference (after its first child) stops as
@@ -78,7 +79,8 @@ pub struct Csg {
     /// Per child of a `disjoint` union, the other children it may touch
     /// (not apart with a little room to spare), as bits.
     touch: Vec<u64>,
-    /// Whether any two children may touch.
+    /// Whether any two children may touch (`touch` not all zero), kept
+    /// because every ray asks.
     touches: bool,
     /// The material the block gives its children (its own or inherited):
     /// hits wearing it have their solid-texture point in this block's
@@ -168,23 +170,33 @@ struct Count {
 /// quadratic, once per union).
 const CLEAR_MAX: usize = 64;
 
-/// Whether every two children are clear of each other: two bounded ones
-/// by their boxes, a bounded one and an unbounded one by asking the
-/// unbounded one about the other's box; two unbounded ones never are.
+/// Whether children `i` and `j` are clear of each other, `room` applied
+/// to the box that is asked about: two bounded ones by their boxes, a
+/// bounded one and an unbounded one by asking the unbounded one about
+/// the other's box; two unbounded ones never are.
+fn clear_pair(
+    children: &[Box<dyn Shape>],
+    bounds: &[Aabb],
+    reach: &[Reach],
+    (i, j): (usize, usize),
+    room: impl Fn(&Aabb) -> Aabb,
+) -> bool {
+    match (reach[i], reach[j]) {
+        (Reach::Nowhere, _) | (_, Reach::Nowhere) => true,
+        (Reach::Bounded, Reach::Bounded) => room(&bounds[i]).apart(&bounds[j]),
+        (Reach::Bounded, Reach::Unbounded) => children[j].clear_of(&room(&bounds[i])),
+        (Reach::Unbounded, Reach::Bounded) => children[i].clear_of(&room(&bounds[j])),
+        (Reach::Unbounded, Reach::Unbounded) => false,
+    }
+}
+
+/// Whether every two children are clear of each other ([`clear_pair`]).
 fn pairwise_clear(children: &[Box<dyn Shape>], bounds: &[Aabb], reach: &[Reach]) -> bool {
     let n = children.len();
     if n > CLEAR_MAX {
         return false;
     }
-    (0..n).all(|i| {
-        (i + 1..n).all(|j| match (reach[i], reach[j]) {
-            (Reach::Nowhere, _) | (_, Reach::Nowhere) => true,
-            (Reach::Bounded, Reach::Bounded) => bounds[i].apart(&bounds[j]),
-            (Reach::Bounded, Reach::Unbounded) => children[j].clear_of(&bounds[i]),
-            (Reach::Unbounded, Reach::Bounded) => children[i].clear_of(&bounds[j]),
-            (Reach::Unbounded, Reach::Unbounded) => false,
-        })
-    })
+    (0..n).all(|i| (i + 1..n).all(|j| clear_pair(children, bounds, reach, (i, j), |b| *b)))
 }
 
 /// For children that are pairwise clear, which pairs may touch: those no
@@ -197,14 +209,7 @@ fn touching(children: &[Box<dyn Shape>], bounds: &[Aabb], reach: &[Reach]) -> Ve
     let mut touch = vec![0u64; n];
     for i in 0..n {
         for j in i + 1..n {
-            let apart = match (reach[i], reach[j]) {
-                (Reach::Nowhere, _) | (_, Reach::Nowhere) => true,
-                (Reach::Bounded, Reach::Bounded) => grown(&bounds[i]).apart(&bounds[j]),
-                (Reach::Bounded, Reach::Unbounded) => children[j].clear_of(&grown(&bounds[i])),
-                (Reach::Unbounded, Reach::Bounded) => children[i].clear_of(&grown(&bounds[j])),
-                (Reach::Unbounded, Reach::Unbounded) => false,
-            };
-            if !apart {
+            if !clear_pair(children, bounds, reach, (i, j), grown) {
                 touch[i] |= 1 << j;
                 touch[j] |= 1 << i;
             }
