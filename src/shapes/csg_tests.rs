@@ -13,6 +13,11 @@ fn cube(lo: DVec3, hi: DVec3, m: u32) -> Box<dyn Shape> {
     Box::new(Cuboid::new(lo, hi, [m; 6]))
 }
 
+/// The y = 0 floor (solid below) in material 3.
+fn floor() -> Box<dyn Shape> {
+    Box::new(Plane::new(DVec3::Y, 0.0, 3))
+}
+
 fn xs(s: &dyn Shape, r: &Ray) -> Vec<Hit> {
     let mut v = Vec::new();
     s.crossings(r, &mut v);
@@ -608,7 +613,6 @@ fn union_of_apart_children_agrees_with_the_sweep() {
     // Children whose reaches along a ray do not overlap are asked for
     // their nearest hit directly; that must be what the full crossing
     // list says, in any window, floor included.
-    let floor = || Box::new(Plane::new(DVec3::Y, 0.0, 3)) as Box<dyn Shape>;
     let u = Csg::new(
         CsgOp::Union,
         vec![
@@ -754,7 +758,6 @@ mod edge;
 /// another touches it; overlapping solids, or two planes, are not clear.
 #[test]
 fn a_union_knows_when_its_children_are_clear_of_each_other() {
-    let floor = || Box::new(Plane::new(DVec3::Y, 0.0, 3)) as Box<dyn Shape>;
     let standing = Csg::new(
         CsgOp::Union,
         vec![
@@ -837,7 +840,6 @@ fn a_union_knows_when_its_children_are_clear_of_each_other() {
 #[test]
 fn union_of_clear_children_agrees_with_the_sweep() {
     let _watchdog = crate::watchdog::start();
-    let floor = || Box::new(Plane::new(DVec3::Y, 0.0, 3)) as Box<dyn Shape>;
     let u = Csg::new(
         CsgOp::Union,
         vec![
