@@ -5,8 +5,9 @@
 //! not a plain number, a count that does not fit, data left over) makes it
 //! give up, and the crate's reader then reads the file and reports.
 
-use super::{Raw, is_index_list};
+use super::{Raw, Run, is_index_list};
 use ply_rs_bw::ply::{Encoding, Header, PropertyType, ScalarType};
+use rayon::prelude::*;
 
 /// Where a property's values go.
 #[derive(Clone, Copy)]
@@ -16,14 +17,15 @@ enum Sink {
     Indices,
 }
 
-pub(super) fn payload(bytes: &[u8], header: &Header) -> Option<Raw> {
-    let mut raw = Raw::default();
-    let mut src = match header.encoding {
-        Encoding::Ascii => Source::Ascii(bytes, 0),
-        Encoding::BinaryLittleEndian => Source::Binary(bytes, 0, false),
-        Encoding::BinaryBigEndian => Source::Binary(bytes, 0, true),
-    };
-    for (name, def) in &header.elements {
+/// An element's properties, each with where its values go.
+struct Plan {
+    props: Vec<(PropertyType, Sink)>,
+    is_vertex: bool,
+    is_face: bool,
+}
+
+impl Plan {
+    fn new(name: &str, def: &ply_rs_bw::ply::ElementDef) -> Option<Plan> {
         let is_vertex = name == "vertex";
         let is_face = name == "face";
         let props: Vec<(PropertyType, Sink)> = def
@@ -50,60 +52,144 @@ pub(super) fn payload(bytes: &[u8], header: &Header) -> Option<Raw> {
                 [(PropertyType::List(_, t), _)] if !is_float(t) => {}
                 _ => return None,
             }
-            raw.starts = Vec::with_capacity(def.count.min(1 << 26) + 1);
-            raw.starts.push(0);
-            raw.indices.reserve(3 * def.count.min(1 << 26));
         }
-        if is_vertex {
-            raw.values = Vec::with_capacity(def.count.min(1 << 26));
-            raw.set = Vec::with_capacity(def.count.min(1 << 26));
+        Some(Plan {
+            props,
+            is_vertex,
+            is_face,
+        })
+    }
+}
+
+impl Run {
+    fn with_capacity(plan: &Plan, count: usize) -> Run {
+        let n = count.min(1 << 26);
+        let mut run = Run::default();
+        if plan.is_vertex {
+            run.values.reserve(n);
+            run.set.reserve(n);
         }
-        for _ in 0..def.count {
-            src.begin_record()?;
-            let mut values = [0f64; 8];
-            let mut set = 0u8;
-            for (ty, sink) in &props {
-                match ty {
-                    PropertyType::Scalar(t) => {
-                        let v = src.scalar(t)?;
-                        if let Sink::Vertex(k) = sink {
-                            values[*k] = v;
-                            set |= 1 << *k;
-                        }
+        if plan.is_face {
+            run.ends.reserve(n);
+            run.indices.reserve(3 * n);
+        }
+        run
+    }
+}
+
+/// Reads `count` records of the element `plan` from `src` into `part`.
+fn records(src: &mut Source, plan: &Plan, count: usize, run: &mut Run) -> Option<()> {
+    for _ in 0..count {
+        src.begin_record()?;
+        let mut values = [0f64; 8];
+        let mut set = 0u8;
+        for (ty, sink) in &plan.props {
+            match ty {
+                PropertyType::Scalar(t) => {
+                    let v = src.scalar(t)?;
+                    if let Sink::Vertex(k) = sink {
+                        values[*k] = v;
+                        set |= 1 << *k;
                     }
-                    PropertyType::List(count_type, t) => {
-                        let count = src.count(count_type)?;
-                        for _ in 0..count {
-                            let v = src.scalar(t)?;
-                            if let Sink::Indices = sink {
-                                raw.indices.push(v as i64);
-                            }
+                }
+                PropertyType::List(count_type, t) => {
+                    let count = src.count(count_type)?;
+                    for _ in 0..count {
+                        let v = src.scalar(t)?;
+                        if let Sink::Indices = sink {
+                            run.indices.push(v as i64);
                         }
                     }
                 }
             }
-            src.end_record()?;
-            if is_vertex {
-                raw.values.push(values);
-                raw.set.push(set);
-            }
-            if is_face {
-                raw.starts.push(raw.indices.len());
-            }
+        }
+        src.end_record()?;
+        if plan.is_vertex {
+            run.values.push(values);
+            run.set.push(set);
+        }
+        if plan.is_face {
+            run.ends.push(run.indices.len());
         }
     }
-    src.at_end().then_some(raw)
+    Some(())
+}
+
+/// Lines an ASCII run is cut into at most, so that the runs of a big
+/// file are read in parallel (a few per thread, for balance); a file
+/// under this reads as one run.
+pub(super) const RUN_LINES: usize = 8192;
+
+/// The payload, an ASCII file's cut into runs of at most `run_lines`
+/// lines; `None` where the crate must read it.
+pub(super) fn payload(bytes: &[u8], header: &Header, run_lines: usize) -> Option<Raw> {
+    let plans = header
+        .elements
+        .iter()
+        .map(|(name, def)| Plan::new(name, def).map(|p| (p, def.count)))
+        .collect::<Option<Vec<_>>>()?;
+    let mut raw = Raw::default();
+    if header.encoding != Encoding::Ascii {
+        let mut src = Source::Binary(bytes, 0, header.encoding == Encoding::BinaryBigEndian);
+        for (plan, count) in &plans {
+            let mut run = Run::with_capacity(plan, *count);
+            records(&mut src, plan, *count, &mut run)?;
+            raw.runs.push(run);
+        }
+        return src.at_end().then_some(raw);
+    }
+    // ASCII has one record a line: the lines are cut into runs, each
+    // within one element, read in parallel and kept in order. A run holds
+    // exactly its lines' records or the file is not plain.
+    let spans = ascii_runs(bytes, &plans, run_lines)?;
+    raw.runs = spans
+        .par_iter()
+        .map(|&(element, from, to, count)| {
+            let plan = &plans[element].0;
+            let mut run = Run::with_capacity(plan, count);
+            let mut src = Source::Ascii(&bytes[from..to], 0);
+            records(&mut src, plan, count, &mut run)?;
+            matches!(src, Source::Ascii(b, p) if p == b.len()).then_some(run)
+        })
+        .collect::<Option<Vec<Run>>>()?;
+    let end = spans.last().map_or(0, |r| r.2);
+    Source::Ascii(&bytes[end..], 0).at_end().then_some(raw)
+}
+
+/// The ASCII payload's lines cut into runs of at most `run_lines`, none
+/// across two elements: (element, first byte, byte past its last line
+/// end, lines). `None` when there are fewer line ends than records.
+fn ascii_runs(
+    bytes: &[u8],
+    plans: &[(Plan, usize)],
+    run_lines: usize,
+) -> Option<Vec<(usize, usize, usize, usize)>> {
+    let mut runs = Vec::new();
+    let mut line_ends = memchr::memchr_iter(b'\n', bytes);
+    let mut at = 0;
+    for (element, &(_, count)) in plans.iter().enumerate() {
+        let mut left = count;
+        while left > 0 {
+            let n = left.min(run_lines.max(1));
+            // The n-th line end from here.
+            let end = line_ends.nth(n - 1)? + 1;
+            runs.push((element, at, end, n));
+            at = end;
+            left -= n;
+        }
+    }
+    Some(runs)
 }
 
 /// Whether a whole file's data goes through here (for the tests).
 #[cfg(test)]
-pub(super) fn payload_is_fast(bytes: &[u8]) -> bool {
+pub(super) fn payload_is_fast(bytes: &[u8], run_lines: usize) -> bool {
     use ply_rs_bw::parser::{Parser, Reader};
     let mut reader = Reader::new(bytes);
     let Ok(header) = Parser::<super::Elem>::new().read_header(&mut reader) else {
         return false;
     };
-    payload(reader.get_ref(), &header).is_some()
+    payload(reader.get_ref(), &header, run_lines).is_some()
 }
 
 /// The slot of a vertex property in `Raw::values` (see `Elem::scalar`).

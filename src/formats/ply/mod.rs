@@ -199,12 +199,13 @@ fn normalise(bytes: &[u8]) -> Vec<u8> {
 
 /// Reads a whole PLY file from memory.
 pub fn parse(bytes: &[u8]) -> Result<TriangleSoup, MeshFileError> {
-    parse_with(bytes, true)
+    parse_with(bytes, Some(fast::RUN_LINES))
 }
 
-/// `fast` lets the bulk data bypass the crate's grammar (see `fast`);
-/// the tests compare both ways.
-fn parse_with(bytes: &[u8], fast: bool) -> Result<TriangleSoup, MeshFileError> {
+/// `fast` lets the bulk data bypass the crate's grammar (see `fast`), an
+/// ASCII file read in runs of at most that many lines; `None` reads it
+/// all with the crate. The tests compare the ways.
+fn parse_with(bytes: &[u8], fast: Option<usize>) -> Result<TriangleSoup, MeshFileError> {
     if bytes.is_empty() {
         return Err(err("the file is empty, not a PLY file", None, None));
     }
@@ -245,7 +246,7 @@ fn parse_with(bytes: &[u8], fast: bool) -> Result<TriangleSoup, MeshFileError> {
     })
 }
 
-fn read(bytes: &[u8], try_fast: bool) -> Result<TriangleSoup, MeshFileError> {
+fn read(bytes: &[u8], fast: Option<usize>) -> Result<TriangleSoup, MeshFileError> {
     let parser = Parser::<Elem>::new();
     let mut reader = Reader::new(bytes);
     let header = parser
@@ -299,24 +300,43 @@ fn read(bytes: &[u8], try_fast: bool) -> Result<TriangleSoup, MeshFileError> {
     let line_of = |element: &str, i: usize| ascii.then(|| first_line[element] + i);
 
     let payload: &[u8] = reader.get_ref();
-    let raw = match try_fast.then(|| fast::payload(payload, &header)).flatten() {
+    let raw = match fast.and_then(|lines| fast::payload(payload, &header, lines)) {
         Some(raw) => raw,
         None => slow_payload(&parser, &mut reader, &header, line)?,
     };
     finish(raw, line_of)
 }
 
-/// The payload as plain arrays, whichever reader produced it.
+/// The payload as plain arrays, whichever reader produced it: runs of
+/// records in file order (the fast reader reads an ASCII file's runs in
+/// parallel and keeps them as they are, rather than copying them into one).
 #[derive(Default)]
 struct Raw {
+    runs: Vec<Run>,
+    /// The first face whose index list was not of integers.
+    bad_list: Option<usize>,
+}
+
+/// Some of the file's vertices or faces (or both), in order.
+#[derive(Default)]
+struct Run {
     /// Per vertex: x y z nx ny nz u v, and bits telling which were present.
     values: Vec<[f64; 8]>,
     set: Vec<u8>,
-    /// Face `i`'s indices are `indices[starts[i]..starts[i + 1]]`.
-    starts: Vec<usize>,
+    /// The run's face `j` has the indices `indices[ends[j - 1]..ends[j]]`
+    /// (from 0 for the first).
+    ends: Vec<usize>,
     indices: Vec<i64>,
-    /// The first face whose index list was not of integers.
-    bad_list: Option<usize>,
+}
+
+impl Run {
+    /// Each face's index list, in order.
+    fn faces(&self) -> impl Iterator<Item = &[i64]> {
+        let starts = std::iter::once(0).chain(self.ends.iter().copied());
+        starts
+            .zip(&self.ends)
+            .map(|(start, &end)| &self.indices[start..end])
+    }
 }
 
 /// The payload through the crate's per-token reader: every file the fast
@@ -343,24 +363,25 @@ fn slow_payload(
                 err(msg, e.line().filter(|_| ascii), Some(name.clone()))
             })?;
         match name.as_str() {
-            "vertex" => {
-                raw.values = elems.iter().map(|v| v.values).collect();
-                raw.set = elems.iter().map(|v| v.set).collect();
-            }
+            "vertex" => raw.runs.push(Run {
+                values: elems.iter().map(|v| v.values).collect(),
+                set: elems.iter().map(|v| v.set).collect(),
+                ..Run::default()
+            }),
             "face" => {
-                raw.starts = Vec::with_capacity(elems.len() + 1);
-                raw.starts.push(0);
+                let mut run = Run::default();
                 for (i, f) in elems.iter().enumerate() {
                     if f.bad_list && raw.bad_list.is_none() {
                         raw.bad_list = Some(i);
                     }
                     if f.ints.is_empty() {
-                        raw.indices.extend_from_slice(&f.wide);
+                        run.indices.extend_from_slice(&f.wide);
                     } else {
-                        raw.indices.extend(f.ints.iter().map(|&x| x as i64));
+                        run.indices.extend(f.ints.iter().map(|&x| x as i64));
                     }
-                    raw.starts.push(raw.indices.len());
+                    run.ends.push(run.indices.len());
                 }
+                raw.runs.push(run);
             }
             _ => {}
         }
@@ -387,15 +408,21 @@ fn finish(
     raw: Raw,
     line_of: impl Fn(&str, usize) -> Option<usize>,
 ) -> Result<TriangleSoup, MeshFileError> {
+    let vertices: usize = raw.runs.iter().map(|r| r.values.len()).sum();
     let mut out = TriangleSoup {
-        positions: Vec::with_capacity(raw.values.len()),
+        positions: Vec::with_capacity(vertices),
         ..TriangleSoup::default()
     };
-    let all = |bits: u8| raw.set.iter().all(|s| s & bits == bits);
+    let all = |bits: u8| {
+        raw.runs
+            .iter()
+            .flat_map(|r| &r.set)
+            .all(|s| s & bits == bits)
+    };
     let (has_n, has_uv) = (all(NX | NY | NZ), all(U | V));
     let mut normals = Vec::new();
     let mut uvs = Vec::new();
-    for (i, v) in raw.values.iter().enumerate() {
+    for (i, v) in raw.runs.iter().flat_map(|r| &r.values).enumerate() {
         let p = DVec3::new(v[0], v[1], v[2]);
         if !p.is_finite() {
             return Err(err(
@@ -414,11 +441,13 @@ fn finish(
             uvs.push(if uv.is_finite() { uv } else { DVec2::ZERO });
         }
     }
-    drop(raw.values);
     let n = out.positions.len() as i64;
-    let faces = raw.starts.len().saturating_sub(1);
-    out.triangles.reserve(faces);
-    for i in 0..faces {
+    out.triangles
+        .reserve(raw.runs.iter().map(|r| r.ends.len()).sum());
+    // One buffer for every face's corners (a face is usually a triangle;
+    // a list per face was an allocation per face).
+    let mut corners: Vec<u32> = Vec::new();
+    for (i, idx) in raw.runs.iter().flat_map(Run::faces).enumerate() {
         let bad = |what: String| {
             err(
                 format!("face {i}: {what}"),
@@ -429,7 +458,6 @@ fn finish(
         if raw.bad_list == Some(i) {
             return Err(bad("vertex indices must be integers".into()));
         }
-        let idx = &raw.indices[raw.starts[i]..raw.starts[i + 1]];
         if idx.len() < 3 {
             return Err(bad(format!(
                 "a face needs at least 3 vertices, this one has {}",
@@ -441,7 +469,8 @@ fn finish(
                 "vertex index {k} is out of range (the file has {n} vertices)"
             )));
         }
-        let corners: Vec<u32> = idx.iter().map(|&k| k as u32).collect();
+        corners.clear();
+        corners.extend(idx.iter().map(|&k| k as u32));
         triangulate(&corners, &mut out.triangles);
     }
     if out.triangles.is_empty() {

@@ -103,13 +103,55 @@ fn the_fast_reader_agrees_with_the_crate() {
                 end_header\n.5 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
     assert!(parse(bad).is_err());
     for f in &files {
-        let fast = parse_with(f, true).unwrap();
-        assert_eq!(fast, parse_with(f, false).unwrap());
+        let fast = parse_with(f, Some(fast::RUN_LINES)).unwrap();
+        assert_eq!(fast, parse_with(f, None).unwrap());
         let text = String::from_utf8_lossy(f);
         assert!(
-            !text.contains("format ascii") || fast::payload_is_fast(f),
+            !text.contains("format ascii") || fast::payload_is_fast(f, fast::RUN_LINES),
             "the fast path declined {text}"
         );
+    }
+}
+
+/// An ASCII file read in runs of any length, each run within one element
+/// (an element between the vertices and the faces among them), gives the
+/// crate's mesh; a run that ends early, a line too many or too few, and
+/// trailing data are refused as in one run.
+#[test]
+fn runs_of_any_length_read_the_same_mesh() {
+    let (positions, triangles) = icosphere(2);
+    let faces: Vec<Vec<u32>> = triangles.iter().map(|t| t.to_vec()).collect();
+    let text = write_ascii(&positions, &faces);
+    let (head, body) = text.split_once("end_header\n").unwrap();
+    let (verts, faces_text) = body.split_at(body.find("\n3 ").unwrap() + 1);
+    let head = head.replace(
+        "element face",
+        "element edge 3\nproperty int a\nproperty float b\nelement face",
+    );
+    let file = format!("{head}end_header\n{verts}1 0.5\n2 0.25\n3 1e2\n{faces_text}").into_bytes();
+    let want = parse_with(&file, None).unwrap();
+    assert_eq!(want.triangles, triangles);
+    for lines in [1, 2, 3, 7, 100, 161, 162, 163, 1000] {
+        assert_eq!(parse_with(&file, Some(lines)).unwrap(), want, "{lines}");
+        assert!(fast::payload_is_fast(&file, lines), "{lines}");
+    }
+    // One line fewer, one more, the first face cut short (its indices on
+    // the next line), something after the last.
+    let lines: Vec<&str> = file
+        .split_inclusive(|&b| b == b'\n')
+        .map(|l| std::str::from_utf8(l).unwrap())
+        .collect();
+    let short: String = lines[..lines.len() - 1].concat();
+    let long = format!("{}3 0 1 2\n", lines.concat());
+    let cut = lines.concat().replacen("\n3 ", "\n3 1\n", 1);
+    let tail = format!("{}x\n", lines.concat());
+    for bad in [short, long, cut, tail] {
+        for runs in [None, Some(1), Some(5), Some(fast::RUN_LINES)] {
+            assert!(parse_with(bad.as_bytes(), runs).is_err(), "{runs:?}");
+            if let Some(lines) = runs {
+                assert!(!fast::payload_is_fast(bad.as_bytes(), lines), "{lines}");
+            }
+        }
     }
 }
 
@@ -264,8 +306,8 @@ proptest! {
         if !b.is_empty() && cut.index(4) == 0 {
             b.truncate(cut.index(b.len()));
         }
-        let _ = read(&b, false);
-        let _ = read(&b, true);
+        let _ = read(&b, None);
+        let _ = read(&b, Some(2));
         let _ = parse(&b);
     }
 }
