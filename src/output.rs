@@ -348,14 +348,40 @@ pub fn to_rgb8(film: &Film, transfer: Transfer) -> image::RgbImage {
         .par_chunks_mut(3 * row)
         .zip(film.pixels.par_chunks(row))
         .for_each(|(out, pixels)| {
-            for (out, p) in out.chunks_exact_mut(3).zip(pixels) {
-                for (o, &c) in out.iter_mut().zip(p) {
-                    *o = transfer.encode8(c as f64);
+            let values = pixels.as_flattened();
+            match transfer {
+                // The linear curve (the benchmarks' `gamma linear`) as
+                // plain arithmetic the compiler vectorises: the general
+                // route was a third of writing a 1000 × 1000 picture.
+                Transfer::Linear => {
+                    for (o, &c) in out.iter_mut().zip(values) {
+                        *o = linear8(c);
+                    }
+                }
+                t => {
+                    for (o, &c) in out.iter_mut().zip(values) {
+                        *o = t.encode8(c as f64);
+                    }
                 }
             }
         });
     image::RgbImage::from_raw(film.width, film.height, bytes)
         .expect("film holds width × height pixels")
+}
+
+/// `Transfer::Linear.encode8(c)`: NaN and below 0 to 0, above 1 to 255,
+/// else 255c rounded half away from zero, as the truncation and its exact
+/// fraction. `f64::max` and `min` pass over a NaN, so the values stay in
+/// [0, 255], where the unchecked conversion is one instruction for every
+/// lane (`as i32` adds a NaN and range fix-up to each, unvectorised).
+#[inline(always)]
+#[allow(clippy::manual_clamp)] // `clamp` keeps a NaN, which this must not
+fn linear8(c: f32) -> u8 {
+    let v = (c as f64).max(0.0).min(1.0) * 255.0;
+    // SAFETY: v is finite and in [0, 255] (see above), so it fits.
+    let t = unsafe { v.to_int_unchecked::<i32>() };
+    let up = (v - t as f64 >= 0.5) as i32;
+    (t + up) as u8
 }
 
 fn to_rgb32f(film: &Film) -> image::Rgb32FImage {
@@ -439,6 +465,22 @@ fn encode(
         (Pixels::Rgb8(_), Format::Exr | Format::Hdr) => {
             Err("8-bit colour cannot be written as linear float".into())
         }
+        (Pixels::Rgb8(img), Format::Png) => {
+            use image::ImageEncoder;
+            use image::codecs::png::{CompressionType, FilterType, PngEncoder};
+            // Fast deflate (the crate's default) after the Paeth filter on
+            // every row, not the adaptive choice of five per row: a third
+            // less time, and smaller files on every benchmark picture but
+            // one (0.6% larger there).
+            PngEncoder::new_with_quality(out, CompressionType::Fast, FilterType::Paeth)
+                .write_image(
+                    img.as_raw(),
+                    img.width(),
+                    img.height(),
+                    image::ExtendedColorType::Rgb8,
+                )
+                .map_err(Into::into)
+        }
         (Pixels::Rgb8(img), _) => Ok(img.write_to(out, format.image_format())?),
     }
 }
@@ -461,6 +503,64 @@ fn write_ppm(img: &image::RgbImage, out: &mut impl std::io::Write) -> image::Ima
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The vectorised linear route writes the byte the transfer's own
+    /// encoding does: at every f32 within 300 ulps of each rounding
+    /// boundary (k + ½)/255 and each end, at special values, and at
+    /// spread-out values (every 4099th bit pattern of [−2, 2]).
+    #[test]
+    fn the_linear_bytes_are_the_transfers() {
+        let check = |c: f32| {
+            assert_eq!(
+                linear8(c),
+                Transfer::Linear.encode8(c as f64),
+                "{c:e} ({:#x})",
+                c.to_bits()
+            )
+        };
+        let mut centres: Vec<f32> = (0..=255).map(|k| (k as f32 + 0.5) / 255.0).collect();
+        centres.extend([0.0, 1.0, -0.0, f32::MIN_POSITIVE]);
+        for c in centres {
+            for d in -300i32..=300 {
+                check(f32::from_bits(c.to_bits().wrapping_add_signed(d)));
+            }
+        }
+        for c in [
+            f32::NAN,
+            -f32::NAN,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::MAX,
+            -1.0,
+        ] {
+            check(c);
+        }
+        let (lo, hi) = (2.0f32.to_bits(), (-2.0f32).to_bits());
+        for b in (0..lo).step_by(4099).chain((1u32 << 31..hi).step_by(4099)) {
+            check(f32::from_bits(b));
+        }
+        // And a film: the whole route, rows in parallel.
+        let film = Film::new(
+            3,
+            2,
+            vec![
+                [0.5, 1.5, -1.0],
+                [f32::NAN, 0.001, 0.998],
+                [0.25; 3],
+                [1.0; 3],
+                [0.0; 3],
+                [0.1, 0.2, 0.3],
+            ],
+        );
+        let img = to_rgb8(&film, Transfer::Linear);
+        let want: Vec<u8> = film
+            .pixels
+            .iter()
+            .flatten()
+            .map(|&c| Transfer::Linear.encode8(c as f64))
+            .collect();
+        assert_eq!(img.as_raw(), &want);
+    }
 
     #[test]
     fn formats_follow_extensions() {

@@ -64,6 +64,9 @@ pub fn write_png(img: &image::RgbImage, stamp: &Stamp, out: impl Write) -> Resul
     let mut enc = png::Encoder::new(out, img.width(), img.height());
     enc.set_color(png::ColorType::Rgb);
     enc.set_depth(png::BitDepth::Eight);
+    // As a whole picture is written (output.rs): fast deflate, Paeth.
+    enc.set_compression(png::Compression::Fast);
+    enc.set_filter(png::Filter::Paeth);
     enc.add_text_chunk(KEY.to_string(), stamp.to_text())?;
     let mut writer = enc.write_header()?;
     // oFFs: x and y as signed 32-bit big-endian, then unit 0 (pixels).
