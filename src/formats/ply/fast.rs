@@ -4,6 +4,10 @@
 //! module can read plainly is read here. Anything unusual (a token that is
 //! not a plain number, a count that does not fit, data left over) makes it
 //! give up, and the crate's reader then reads the file and reports.
+//!
+//! ASCII data has one record a line, so its lines are cut into runs (at
+//! line ends found with memchr), none across two elements, and the runs
+//! are read in parallel: a run must hold exactly its lines' records.
 
 use super::{Raw, Run, is_index_list};
 use ply_rs_bw::ply::{Encoding, Header, PropertyType, ScalarType};
@@ -77,7 +81,7 @@ impl Run {
     }
 }
 
-/// Reads `count` records of the element `plan` from `src` into `part`.
+/// Reads `count` records of the element `plan` from `src` into `run`.
 fn records(src: &mut Source, plan: &Plan, count: usize, run: &mut Run) -> Option<()> {
     for _ in 0..count {
         src.begin_record()?;
@@ -115,9 +119,9 @@ fn records(src: &mut Source, plan: &Plan, count: usize, run: &mut Run) -> Option
     Some(())
 }
 
-/// Lines an ASCII run is cut into at most, so that the runs of a big
-/// file are read in parallel (a few per thread, for balance); a file
-/// under this reads as one run.
+/// The most lines an ASCII run holds: a big file's runs are read in
+/// parallel (several per thread, for balance); a small file is one run
+/// per element.
 pub(super) const RUN_LINES: usize = 8192;
 
 /// The payload, an ASCII file's cut into runs of at most `run_lines`
