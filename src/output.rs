@@ -458,28 +458,10 @@ fn encode(
     match (pixels, format) {
         (Pixels::Float(img), Format::Exr) => crate::farm::image_io::write_exr(img, stamp, out),
         (Pixels::Float(img), _) => Ok(img.write_to(out, format.image_format())?),
-        (Pixels::Rgb8(img), Format::Png) if let Some(s) = stamp => {
-            crate::farm::image_io::write_png(img, s, out)
-        }
+        (Pixels::Rgb8(img), Format::Png) => crate::farm::image_io::write_png(img, stamp, out),
         (Pixels::Rgb8(img), Format::Ppm) => Ok(write_ppm(img, out)?),
         (Pixels::Rgb8(_), Format::Exr | Format::Hdr) => {
             Err("8-bit colour cannot be written as linear float".into())
-        }
-        (Pixels::Rgb8(img), Format::Png) => {
-            use image::ImageEncoder;
-            use image::codecs::png::{CompressionType, FilterType, PngEncoder};
-            // Fast deflate (the crate's default) after the Paeth filter on
-            // every row, not the adaptive choice of five per row: a third
-            // less time, and smaller files on every benchmark picture but
-            // one (0.6% larger there).
-            PngEncoder::new_with_quality(out, CompressionType::Fast, FilterType::Paeth)
-                .write_image(
-                    img.as_raw(),
-                    img.width(),
-                    img.height(),
-                    image::ExtendedColorType::Rgb8,
-                )
-                .map_err(Into::into)
         }
         (Pixels::Rgb8(img), _) => Ok(img.write_to(out, format.image_format())?),
     }

@@ -131,7 +131,7 @@ pub fn render_region(
     // collected and copied: 12 MB at 1000 × 1000).
     let width = (x1 - region.x) as usize;
     let mut film = vec![[0f32; 3]; width * (y1 - region.y) as usize];
-    let rows: Vec<stats::RayCounts> = film
+    let row_counts: Vec<stats::RayCounts> = film
         .par_chunks_mut(width)
         .zip(region.y..y1)
         .map(|(row, b)| {
@@ -163,7 +163,7 @@ pub fn render_region(
         return None;
     }
     let mut counts = stats::RayCounts::default();
-    for c in &rows {
+    for c in &row_counts {
         counts.add(c);
     }
     let stats = RenderStats {
