@@ -178,6 +178,8 @@ pub fn render_region(
 struct Scratch<'w> {
     spots: Vec<(f64, f64)>,
     lens: Vec<(f64, f64)>,
+    /// The sampler's hashes.
+    hashes: Vec<u64>,
     /// Each sample's camera ray, and its first hit and the object hit.
     rays: Vec<crate::geometry::Ray>,
     hits: Vec<Hit>,
@@ -204,10 +206,10 @@ impl<'a> PixelRenderer<'a> {
         scratch: &mut Scratch<'a>,
         counts: &mut stats::RayCounts,
     ) -> Colour {
-        sampler.pattern(pixel, PIXEL_DIM, &mut scratch.spots);
+        sampler.pattern_with(pixel, PIXEL_DIM, &mut scratch.spots, &mut scratch.hashes);
         scratch.lens.clear();
         if self.camera.has_lens() {
-            sampler.pattern(pixel, LENS_DIM, &mut scratch.lens);
+            sampler.pattern_with(pixel, LENS_DIM, &mut scratch.lens, &mut scratch.hashes);
         }
         scratch.colours.clear();
         // Every camera ray first, then every path: the rays are independent

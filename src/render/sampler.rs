@@ -58,7 +58,13 @@ impl PixelKey {
     /// The 64 hashed bits for (sample, dimension).
     #[inline]
     fn bits(self, sample: u32, dim: u32) -> u64 {
-        mix(self.0 ^ ((sample as u64) << 32 | dim as u64))
+        mix(self.input(sample, dim))
+    }
+
+    /// What [`PixelKey::bits`] mixes.
+    #[inline]
+    fn input(self, sample: u32, dim: u32) -> u64 {
+        self.0 ^ ((sample as u64) << 32 | dim as u64)
     }
 
     /// [`uniform`].
@@ -71,10 +77,15 @@ impl PixelKey {
     /// for a position inside a pixel or on a lens, and half the hashing).
     #[inline]
     fn uniform_pair(self, sample: u32, dim: u32) -> (f64, f64) {
-        let h = self.bits(sample, dim);
-        const SCALE: f64 = 1.0 / (1u64 << 32) as f64;
-        ((h >> 32) as f64 * SCALE, (h & 0xffff_ffff) as f64 * SCALE)
+        pair(self.bits(sample, dim))
     }
+}
+
+/// [`PixelKey::uniform_pair`] of hashed bits `h`.
+#[inline]
+fn pair(h: u64) -> (f64, f64) {
+    const SCALE: f64 = 1.0 / (1u64 << 32) as f64;
+    ((h >> 32) as f64 * SCALE, (h & 0xffff_ffff) as f64 * SCALE)
 }
 
 /// A uniform number in [0, 1) for (pixel, sample, dimension, seed).
@@ -84,17 +95,102 @@ pub fn uniform(p: Pixel, sample: u32, dim: u32, seed: u64) -> f64 {
 
 /// Fills `p` with a random permutation of 0..p.len() for one key, by
 /// Fisher–Yates on hashed numbers.
+#[cfg(test)]
 fn permutation(p: &mut [u16], key: u64) {
+    let mut h: Vec<u64> = (1..p.len()).rev().map(|i| draw_input(key, i)).collect();
+    mix_all(&mut h);
+    shuffle(p, &h);
+}
+
+/// What is mixed for the Fisher–Yates draw that picks p[i]'s partner.
+#[inline]
+fn draw_input(key: u64, i: usize) -> u64 {
+    key ^ (i as u64).wrapping_mul(0x2545_f491_4f6c_dd1d)
+}
+
+/// Fills `p` with the permutation of 0..p.len() that Fisher–Yates makes
+/// from `draws` (mixed [`draw_input`]s for i = len − 1 down to 1); returns
+/// the draws left over.
+#[inline]
+fn shuffle<'d>(p: &mut [u16], draws: &'d [u64]) -> &'d [u64] {
     for (i, v) in p.iter_mut().enumerate() {
         *v = i as u16;
     }
-    for i in (1..p.len()).rev() {
-        let r = mix(key ^ (i as u64).wrapping_mul(0x2545_f491_4f6c_dd1d));
+    let used = p.len().saturating_sub(1);
+    let (mine, rest) = draws.split_at(used);
+    for (i, &r) in (1..p.len()).rev().zip(mine) {
         // An index in 0..=i from the high 32 bits, without a division.
         let j = (((r >> 32) * (i as u64 + 1)) >> 32) as usize;
         // j ≤ i already; the `min` says so to the compiler, which then drops
         // a bounds check from this, the sampler's hottest loop.
         p.swap(i, j.min(i));
+    }
+    rest
+}
+
+/// `mix` of every element, in place: the AVX-512 lanes multiply eight
+/// 64-bit numbers at once where the CPU has them (AVX2 has no 64-bit
+/// multiply), else one after another. The same bits either way.
+fn mix_all(xs: &mut [u64]) {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx512dq")
+        && std::arch::is_x86_feature_detected!("avx512vl")
+    {
+        // SAFETY: the CPU has the features `mix_all_avx512` is built for.
+        return unsafe { mix_all_avx512(xs) };
+    }
+    mix_all_scalar(xs);
+}
+
+fn mix_all_scalar(xs: &mut [u64]) {
+    for x in xs {
+        *x = mix(*x);
+    }
+}
+
+/// [`mix_all_scalar`] compiled for AVX-512 (the compiler vectorises it).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,avx512dq,avx512vl")]
+unsafe fn mix_all_avx512(xs: &mut [u64]) {
+    for x in xs {
+        *x = mix(*x);
+    }
+}
+
+/// Division by a sample count n: a multiplication by 1/n when n is a
+/// power of two (1/n is then exact, and so is the product: the same bits
+/// as the quotient), else a true division. A pattern's points divide by n
+/// and m twice each, and for the common 2, 4, 8 and 16 the divider's
+/// latency was most of the multi-jittered pattern's time.
+#[derive(Clone, Copy, Debug)]
+struct Divisor {
+    n: f64,
+    inverse: f64,
+    exact: bool,
+}
+
+impl Divisor {
+    fn new(n: u32) -> Divisor {
+        Divisor {
+            n: n as f64,
+            inverse: 1.0 / n as f64,
+            exact: n.is_power_of_two(),
+        }
+    }
+
+    #[inline(always)]
+    fn div(self, x: f64) -> f64 {
+        if self.exact {
+            self.times_inverse(x)
+        } else {
+            x / self.n
+        }
+    }
+
+    /// x/n when n is a power of two.
+    #[inline(always)]
+    fn times_inverse(self, x: f64) -> f64 {
+        x * self.inverse
     }
 }
 
@@ -125,10 +221,23 @@ impl PixelSampler {
         self.n.clamp(1, MAX_SAMPLES) * self.rows.clamp(1, MAX_SAMPLES)
     }
 
+    /// [`PixelSampler::pattern_with`] with a scratch buffer of its own.
+    #[cfg(test)]
+    pub fn pattern(&self, pixel: Pixel, dim: u32, out: &mut Vec<(f64, f64)>) {
+        self.pattern_with(pixel, dim, out, &mut Vec::new());
+    }
+
     /// Writes the n × m points for `pixel` from dimensions `dim`, `dim + 1`
     /// into `out`, indexed by sample. Regular points are the cell centres
-    /// in row order (the 2017 grid).
-    pub fn pattern(&self, pixel: Pixel, dim: u32, out: &mut Vec<(f64, f64)>) {
+    /// in row order (the 2017 grid). `hashes` is scratch space, kept by
+    /// the caller from pixel to pixel.
+    pub fn pattern_with(
+        &self,
+        pixel: Pixel,
+        dim: u32,
+        out: &mut Vec<(f64, f64)>,
+        hashes: &mut Vec<u64>,
+    ) {
         out.clear();
         let n = self.n.clamp(1, MAX_SAMPLES);
         let m = self.rows.clamp(1, MAX_SAMPLES);
@@ -138,14 +247,14 @@ impl PixelSampler {
             out.push((0.5, 0.5));
             return;
         }
-        let (nf, mf) = (n as f64, m as f64);
+        let (nf, mf) = (Divisor::new(n), Divisor::new(m));
         let key = PixelKey::new(pixel, self.seed);
         let r = |s: u32| key.uniform_pair(s, dim);
         match self.kind {
             SamplerKind::Regular => {
                 for j in 0..m {
                     for i in 0..n {
-                        out.push(((i as f64 + 0.5) / nf, (j as f64 + 0.5) / mf));
+                        out.push((nf.div(i as f64 + 0.5), mf.div(j as f64 + 0.5)));
                     }
                 }
             }
@@ -154,40 +263,98 @@ impl PixelSampler {
                 for j in 0..m {
                     for i in 0..n {
                         let (a, b) = r(j * n + i);
-                        out.push(((i as f64 + a) / nf, (j as f64 + b) / mf));
+                        out.push((nf.div(i as f64 + a), mf.div(j as f64 + b)));
                     }
                 }
             }
-            SamplerKind::MultiJittered => {
-                // Cell (i, j) of the n columns and m rows takes fine column
-                // σ_i(j) of the m inside its column i and fine row τ_j(i)
-                // of the n inside its row j: with a permutation per column
-                // and per row every fine column and row of the nm × nm
-                // grid holds exactly one point.
-                let key =
-                    mix(self.seed ^ mix(((pixel.x as u64) << 32) | pixel.y as u64) ^ dim as u64);
-                let (nu, mu) = (n as usize, m as usize);
-                let mut order = [0u16; (MAX_SAMPLES * MAX_SAMPLES) as usize];
-                permutation(&mut order[..nu * mu], key ^ 0x5bd1_e995);
-                out.resize(nu * mu, (0.0, 0.0));
-                let mut taus = [[0u16; MAX_SAMPLES as usize]; MAX_SAMPLES as usize];
-                for (j, tau) in taus.iter_mut().enumerate().take(mu) {
-                    permutation(&mut tau[..nu], key ^ ROW_KEYS[j]);
-                }
-                let mut sigma = [0u16; MAX_SAMPLES as usize];
-                for i in 0..n {
-                    permutation(&mut sigma[..mu], key ^ COLUMN_KEYS[i as usize]);
-                    for (j, tau) in taus.iter().enumerate().take(mu) {
-                        let s = j as u32 * n + i;
-                        let (a, b) = r(s);
-                        let x = (i as f64 + (sigma[j] as f64 + a) / mf) / nf;
-                        let y = (j as f64 + (tau[i as usize] as f64 + b) / nf) / mf;
-                        // Shuffled, so that sample k's pixel and lens points
-                        // are not paired by grid position.
-                        out[order[s as usize] as usize] = (x, y);
-                    }
+            SamplerKind::MultiJittered => self.multijittered(pixel, dim, key, out, hashes),
+        }
+    }
+
+    /// Cell (i, j) of the n columns and m rows takes fine column σ_i(j)
+    /// of the m inside its column i and fine row τ_j(i) of the n inside
+    /// its row j: with a permutation per column and per row every fine
+    /// column and row of the nm × nm grid holds exactly one point. The
+    /// points are then shuffled, so that sample k's pixel and lens points
+    /// are not paired by grid position.
+    ///
+    /// Every hash the pattern needs (the Fisher–Yates draws of its
+    /// 1 + n + m permutations, then one per point) is independent of the
+    /// others, so all are gathered first and mixed in one pass
+    /// ([`mix_all`], eight at a time where the CPU can); only the swaps
+    /// and the sums are left in order. The numbers are the same as one
+    /// `mix` after another (sampler_tests.rs holds them to that).
+    fn multijittered(
+        &self,
+        pixel: Pixel,
+        dim: u32,
+        key: PixelKey,
+        out: &mut Vec<(f64, f64)>,
+        hashes: &mut Vec<u64>,
+    ) {
+        let (n, m) = (
+            self.n.clamp(1, MAX_SAMPLES),
+            self.rows.clamp(1, MAX_SAMPLES),
+        );
+        let (nf, mf) = (Divisor::new(n), Divisor::new(m));
+        let (nu, mu) = (n as usize, m as usize);
+        let nm = nu * mu;
+        let mkey = mix(self.seed ^ mix(((pixel.x as u64) << 32) | pixel.y as u64) ^ dim as u64);
+        let h = hashes;
+        h.clear();
+        let draws = |key: u64, count: usize| (1..count).rev().map(move |i| draw_input(key, i));
+        h.extend(draws(mkey ^ 0x5bd1_e995, nm));
+        for row_key in &ROW_KEYS[..mu] {
+            h.extend(draws(mkey ^ row_key, nu));
+        }
+        for column_key in &COLUMN_KEYS[..nu] {
+            h.extend(draws(mkey ^ column_key, mu));
+        }
+        let points = h.len();
+        h.extend((0..nm as u32).map(|s| key.input(s, dim)));
+        mix_all(h);
+        let (mut draws, pairs) = h.split_at(points);
+        let mut order = [0u16; (MAX_SAMPLES * MAX_SAMPLES) as usize];
+        draws = shuffle(&mut order[..nm], draws);
+        let mut taus = [[0u16; MAX_SAMPLES as usize]; MAX_SAMPLES as usize];
+        for tau in &mut taus[..mu] {
+            draws = shuffle(&mut tau[..nu], draws);
+        }
+        let mut sigmas = [[0u16; MAX_SAMPLES as usize]; MAX_SAMPLES as usize];
+        for sigma in &mut sigmas[..nu] {
+            draws = shuffle(&mut sigma[..mu], draws);
+        }
+        out.resize(nm, (0.0, 0.0));
+        // The choice of divide made once, outside the loop: left inside,
+        // the compiler works out both and picks one per point.
+        #[inline(always)]
+        fn place(
+            out: &mut [(f64, f64)],
+            (sigmas, taus): (
+                &[[u16; MAX_SAMPLES as usize]],
+                &[[u16; MAX_SAMPLES as usize]],
+            ),
+            order: &[u16],
+            pairs: &[u64],
+            (nf, mf): (Divisor, Divisor),
+            div: impl Fn(Divisor, f64) -> f64,
+        ) {
+            let nu = sigmas.len();
+            for (i, sigma) in sigmas.iter().enumerate() {
+                for (j, tau) in taus.iter().enumerate() {
+                    let s = j * nu + i;
+                    let (a, b) = pair(pairs[s]);
+                    let x = div(nf, i as f64 + div(mf, sigma[j] as f64 + a));
+                    let y = div(mf, j as f64 + div(nf, tau[i] as f64 + b));
+                    out[order[s] as usize] = (x, y);
                 }
             }
+        }
+        let cells = (&sigmas[..nu], &taus[..mu]);
+        if nf.exact && mf.exact {
+            place(out, cells, &order, pairs, (nf, mf), Divisor::times_inverse);
+        } else {
+            place(out, cells, &order, pairs, (nf, mf), |d, x| x / d.n);
         }
     }
 }

@@ -729,3 +729,113 @@ fn a_single_sample_is_the_centre_only_for_the_regular_sampler() {
     PixelSampler::square(SamplerKind::Regular, 1, 4).pattern(Pixel { x: 3, y: 3 }, 0, &mut p);
     assert_eq!(p, [(0.5, 0.5)]);
 }
+
+/// The multi-jittered pattern as it was first written: one `mix` after
+/// another, each permutation drawn as it is needed.
+fn multijittered_one_mix_at_a_time(s: &PixelSampler, pixel: Pixel, dim: u32) -> Vec<(f64, f64)> {
+    fn permutation(p: &mut [u16], key: u64) {
+        for (i, v) in p.iter_mut().enumerate() {
+            *v = i as u16;
+        }
+        for i in (1..p.len()).rev() {
+            let r = mix(key ^ (i as u64).wrapping_mul(0x2545_f491_4f6c_dd1d));
+            let j = (((r >> 32) * (i as u64 + 1)) >> 32) as usize;
+            p.swap(i, j);
+        }
+    }
+    let (n, m) = (s.n.clamp(1, MAX_SAMPLES), s.rows.clamp(1, MAX_SAMPLES));
+    let (nf, mf) = (n as f64, m as f64);
+    let r = |k: u32| PixelKey::new(pixel, s.seed).uniform_pair(k, dim);
+    let key = mix(s.seed ^ mix(((pixel.x as u64) << 32) | pixel.y as u64) ^ dim as u64);
+    let (nu, mu) = (n as usize, m as usize);
+    let mut order = vec![0u16; nu * mu];
+    permutation(&mut order, key ^ 0x5bd1_e995);
+    let mut out = vec![(0.0, 0.0); nu * mu];
+    let mut taus = vec![vec![0u16; nu]; mu];
+    for (j, tau) in taus.iter_mut().enumerate() {
+        permutation(tau, key ^ mix(0x1_0000 + j as u64));
+    }
+    let mut sigma = vec![0u16; mu];
+    for i in 0..n {
+        permutation(&mut sigma, key ^ mix(1 + i as u64));
+        for (j, tau) in taus.iter().enumerate() {
+            let s = j as u32 * n + i;
+            let (a, b) = r(s);
+            let x = (i as f64 + (sigma[j] as f64 + a) / mf) / nf;
+            let y = (j as f64 + (tau[i as usize] as f64 + b) / nf) / mf;
+            out[order[s as usize] as usize] = (x, y);
+        }
+    }
+    out
+}
+
+#[test]
+fn multijittered_points_are_those_of_one_mix_at_a_time_for_every_grid() {
+    let mut out = Vec::new();
+    for n in 1..=MAX_SAMPLES + 1 {
+        for rows in 1..=MAX_SAMPLES + 1 {
+            for (x, y, dim, seed) in [(0, 0, 0, 0), (417, 93, 2, 7), (u32::MAX, 5, 1, u64::MAX)] {
+                let s = PixelSampler {
+                    kind: SamplerKind::MultiJittered,
+                    n,
+                    rows,
+                    seed,
+                };
+                let pixel = Pixel { x, y };
+                s.pattern(pixel, dim, &mut out);
+                let want = multijittered_one_mix_at_a_time(&s, pixel, dim);
+                assert_eq!(
+                    out, want,
+                    "{n} × {rows} at {x}, {y}, dim {dim}, seed {seed}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn mixing_all_at_once_is_mixing_each_by_either_path() {
+    let mut next = 0x1234_5678_9abc_def0u64;
+    for len in 0..40 {
+        let xs: Vec<u64> = (0..len)
+            .map(|_| {
+                next = mix(next);
+                next
+            })
+            .collect();
+        let want: Vec<u64> = xs.iter().map(|&x| mix(x)).collect();
+        let mut a = xs.clone();
+        mix_all(&mut a);
+        assert_eq!(a, want, "dispatched, {len}");
+        let mut b = xs.clone();
+        mix_all_scalar(&mut b);
+        assert_eq!(b, want, "scalar, {len}");
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx512dq")
+            && std::arch::is_x86_feature_detected!("avx512vl")
+        {
+            let mut c = xs.clone();
+            // SAFETY: the CPU has the features, checked just above.
+            unsafe { mix_all_avx512(&mut c) };
+            assert_eq!(c, want, "AVX-512, {len}");
+        }
+    }
+}
+
+#[test]
+fn a_divisor_gives_the_quotients_bits_for_every_sample_count() {
+    let mut next = 0x0dd_ba11u64;
+    for n in 1..=MAX_SAMPLES + 1 {
+        let d = Divisor::new(n);
+        assert_eq!(d.exact, n.is_power_of_two(), "{n}");
+        for _ in 0..2000 {
+            next = mix(next);
+            // Numerators as the patterns make them: a cell index plus a
+            // number in [0, 1), and such sums over n again.
+            let x = (next % 17) as f64 + (next >> 11) as f64 / (1u64 << 53) as f64;
+            for x in [x, x / 17.0, 0.0, 0.5] {
+                assert_eq!(d.div(x).to_bits(), (x / n as f64).to_bits(), "{x} / {n}");
+            }
+        }
+    }
+}
