@@ -312,13 +312,13 @@ impl Bvh {
         t_max: f64,
         mut leaf: impl FnMut(usize, usize, f64) -> f64,
     ) {
-        let r = BoxRay::new(ray.origin.to_array(), ray.dir.to_array());
+        let (origin, dir) = (ray.origin.to_array(), ray.dir.to_array());
         match self.simd {
             #[cfg(target_arch = "x86_64")]
             // SAFETY: `simd` is Avx2 only where the CPU has AVX2, FMA, BMI1 and
             // POPCNT.
-            Simd::Avx2 => unsafe { self.walk_avx2(&r, t_min, t_max, &mut leaf) },
-            _ => self.walk_in::<false>(&r, t_min, t_max, &mut leaf),
+            Simd::Avx2 => unsafe { self.walk_avx2(origin, dir, t_min, t_max, &mut leaf) },
+            _ => self.walk_in::<false>(&BoxRay::new(origin, dir), t_min, t_max, &mut leaf),
         }
     }
 
@@ -328,12 +328,15 @@ impl Bvh {
     #[target_feature(enable = "avx2,fma,bmi1,popcnt")]
     unsafe fn walk_avx2(
         &self,
-        r: &BoxRay,
+        origin: [f64; 3],
+        dir: [f64; 3],
         t_min: f64,
         t_max: f64,
         leaf: &mut impl FnMut(usize, usize, f64) -> f64,
     ) {
-        self.walk_in::<true>(r, t_min, t_max, leaf)
+        // SAFETY: AVX2 implies AVX.
+        let r = unsafe { node::box_ray_avx(origin, dir) };
+        self.walk_in::<true>(&r, t_min, t_max, leaf)
     }
 
     #[inline(always)]

@@ -96,6 +96,83 @@ impl BoxRay {
     }
 }
 
+/// [`BoxRay::new`] with AVX: the three axes' roundings, reciprocals and
+/// signs at once. The same bits: `f32` conversion rounds to nearest
+/// either way, and one step up or down is one step of the bit pattern
+/// (+1 away from zero, −1 towards it; from ±0 up to the least subnormal,
+/// from ±∞ in to ±`f32::MAX`), as `next_up`/`next_down` take it.
+///
+/// # Safety
+/// The CPU must support AVX.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx")]
+#[inline]
+pub(super) unsafe fn box_ray_avx(origin: [f64; 3], dir: [f64; 3]) -> BoxRay {
+    use std::arch::x86_64::*;
+    let o = _mm256_set_pd(0.0, origin[2], origin[1], origin[0]);
+    let d = _mm256_set_pd(0.0, dir[2], dir[1], dir[0]);
+    let f = _mm256_cvtpd_ps(o);
+    let back = _mm256_cvtps_pd(f);
+    // Lanes whose f32 lies below the origin (step up) or above (down), as
+    // 4-bit masks, widened to lane masks through a table.
+    let below = lane_mask(_mm256_movemask_pd(_mm256_cmp_pd::<_CMP_LT_OQ>(back, o)) as u32);
+    let above = lane_mask(_mm256_movemask_pd(_mm256_cmp_pd::<_CMP_GT_OQ>(back, o)) as u32);
+    let bits = _mm_castps_si128(f);
+    // +1 for a positive pattern, −1 for a negative one: a step away from
+    // zero.
+    let away = _mm_or_si128(_mm_set1_epi32(1), _mm_srai_epi32::<31>(bits));
+    let up = _mm_castsi128_ps(_mm_add_epi32(bits, away));
+    let down = _mm_castsi128_ps(_mm_sub_epi32(bits, away));
+    let up = _mm_blendv_ps(f, up, below);
+    let down = _mm_blendv_ps(f, down, above);
+    let df = _mm256_cvtpd_ps(d);
+    let inv = _mm_div_ps(_mm_set1_ps(1.0), df);
+    let neg = _mm256_movemask_pd(d) as u32;
+    let negs = lane_mask(neg);
+    // Entry plane: rounded up when the direction is positive, down when
+    // it is negative; the exit the other way.
+    let near = _mm_blendv_ps(up, down, negs);
+    let far = _mm_blendv_ps(down, up, negs);
+    let mut lanes = [[0f32; 4]; 3];
+    // SAFETY: each array holds four f32; unaligned stores.
+    unsafe {
+        _mm_storeu_ps(lanes[0].as_mut_ptr(), near);
+        _mm_storeu_ps(lanes[1].as_mut_ptr(), far);
+        _mm_storeu_ps(lanes[2].as_mut_ptr(), inv);
+    }
+    let first3 = |l: [f32; 4]| [l[0], l[1], l[2]];
+    BoxRay {
+        o_near: first3(lanes[0]),
+        o_far: first3(lanes[1]),
+        inv: first3(lanes[2]),
+        neg: [neg & 1 != 0, neg & 2 != 0, neg & 4 != 0],
+    }
+}
+
+/// Lane k all ones where bit k of `m` (four bits) is set.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn lane_mask(m: u32) -> std::arch::x86_64::__m128 {
+    const MASKS: [[i32; 4]; 16] = {
+        let mut t = [[0; 4]; 16];
+        let mut m = 0;
+        while m < 16 {
+            let mut k = 0;
+            while k < 4 {
+                t[m][k] = -((m >> k & 1) as i32);
+                k += 1;
+            }
+            m += 1;
+        }
+        t
+    };
+    // SAFETY: the row holds four i32; unaligned load (SSE2, always there).
+    unsafe {
+        use std::arch::x86_64::*;
+        _mm_castsi128_ps(_mm_loadu_si128(MASKS[(m & 15) as usize].as_ptr().cast()))
+    }
+}
+
 /// `maxps`: `a` if it is greater, else `b` (so a NaN `a` gives `b`).
 #[inline(always)]
 fn max_ps(a: f32, b: f32) -> f32 {

@@ -487,3 +487,57 @@ fn a_ray_touching_an_edge_keeps_the_box() {
     }
     assert_eq!(tried, cases.len() * 4 * 3 * 3);
 }
+
+/// The AVX box ray is the scalar one, bit for bit (NaN lanes compared by
+/// their bits too).
+#[cfg(target_arch = "x86_64")]
+fn same_box_ray(o: [f64; 3], d: [f64; 3]) -> Result<(), TestCaseError> {
+    if !std::arch::is_x86_feature_detected!("avx") {
+        return Ok(());
+    }
+    let want = BoxRay::new(o, d);
+    // SAFETY: the CPU has AVX, checked just above.
+    let got = unsafe { node::box_ray_avx(o, d) };
+    let bits = |x: [f32; 3]| x.map(f32::to_bits);
+    prop_assert_eq!(bits(got.o_near), bits(want.o_near), "near {:?} {:?}", o, d);
+    prop_assert_eq!(bits(got.o_far), bits(want.o_far), "far {:?} {:?}", o, d);
+    prop_assert_eq!(bits(got.inv), bits(want.inv), "inv {:?} {:?}", o, d);
+    prop_assert_eq!(got.neg, want.neg, "neg {:?} {:?}", o, d);
+    Ok(())
+}
+
+/// Coordinates where the rounding to `f32` is delicate: zeros of both
+/// signs, f64s beside and between f32s, subnormals, beyond `f32::MAX`,
+/// infinities and NaN.
+fn awkward() -> impl Strategy<Value = f64> {
+    let f32_subnormal = f32::from_bits(1) as f64;
+    prop_oneof![
+        Just(0.0),
+        Just(-0.0),
+        Just(f32_subnormal / 3.0),
+        Just(-f32_subnormal / 3.0),
+        Just(f32_subnormal * 2.5),
+        Just(f32::MAX as f64 * 1.5),
+        Just(-(f32::MAX as f64) * 1.5),
+        Just(f32::MAX as f64),
+        Just(f64::INFINITY),
+        Just(f64::NEG_INFINITY),
+        Just(f64::NAN),
+        Just(1e-300),
+        (-1e6f64..1e6).prop_map(|x| x),
+        (-1e6f32..1e6).prop_map(|x| x as f64),
+        (-1e6f32..1e6).prop_map(|x| x as f64 + (x as f64).abs() * 1e-9),
+    ]
+}
+
+#[cfg(target_arch = "x86_64")]
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(4000))]
+    #[test]
+    fn the_avx_box_ray_is_the_scalar_one_bit_for_bit(
+        o in [awkward(), awkward(), awkward()],
+        d in [awkward(), awkward(), awkward()],
+    ) {
+        same_box_ray(o, d)?;
+    }
+}
