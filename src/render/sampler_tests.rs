@@ -823,19 +823,25 @@ fn mixing_all_at_once_is_mixing_each_by_either_path() {
 }
 
 #[test]
-fn a_divisor_gives_the_quotients_bits_for_every_sample_count() {
+fn a_power_of_two_divisor_multiplies_to_the_quotients_bits() {
     let mut next = 0x0dd_ba11u64;
     for n in 1..=MAX_SAMPLES + 1 {
         let d = Divisor::new(n);
         assert_eq!(d.exact, n.is_power_of_two(), "{n}");
+        let mut inexact = false;
         for _ in 0..2000 {
             next = mix(next);
             // Numerators as the patterns make them: a cell index plus a
             // number in [0, 1), and such sums over n again.
             let x = (next % 17) as f64 + (next >> 11) as f64 / (1u64 << 53) as f64;
             for x in [x, x / 17.0, 0.0, 0.5] {
-                assert_eq!(d.div(x).to_bits(), (x / n as f64).to_bits(), "{x} / {n}");
+                let same = d.times_inverse(x).to_bits() == (x / n as f64).to_bits();
+                // Exact for a power of two; for the others (1/3 is
+                // rounded) some products are off, which is why they divide.
+                assert!(same || !d.exact, "{x} / {n}");
+                inexact |= !same;
             }
         }
+        assert_eq!(inexact, !d.exact, "{n}");
     }
 }
