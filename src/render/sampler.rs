@@ -133,28 +133,33 @@ fn shuffle<'d>(p: &mut [u16], draws: &'d [u64]) -> &'d [u64] {
 /// multiply), else one after another. The same bits either way.
 fn mix_all(xs: &mut [u64]) {
     #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx512dq")
-        && std::arch::is_x86_feature_detected!("avx512vl")
-    {
+    if avx512_mix_available() {
         // SAFETY: the CPU has the features `mix_all_avx512` is built for.
         return unsafe { mix_all_avx512(xs) };
     }
     mix_all_scalar(xs);
 }
 
+/// Whether the CPU has what [`mix_all_avx512`] is built for.
+#[cfg(target_arch = "x86_64")]
+fn avx512_mix_available() -> bool {
+    std::arch::is_x86_feature_detected!("avx512dq")
+        && std::arch::is_x86_feature_detected!("avx512vl")
+}
+
+#[inline(always)]
 fn mix_all_scalar(xs: &mut [u64]) {
     for x in xs {
         *x = mix(*x);
     }
 }
 
-/// [`mix_all_scalar`] compiled for AVX-512 (the compiler vectorises it).
+/// [`mix_all_scalar`] compiled for AVX-512 (inlined here, the compiler
+/// vectorises it with the 64-bit multiply).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,avx512dq,avx512vl")]
 unsafe fn mix_all_avx512(xs: &mut [u64]) {
-    for x in xs {
-        *x = mix(*x);
-    }
+    mix_all_scalar(xs);
 }
 
 /// Division by a sample count n: a multiplication by 1/n when n is a
@@ -258,7 +263,7 @@ impl PixelSampler {
                     }
                 }
             }
-            SamplerKind::MultiJittered => self.multijittered(pixel, dim, key, out, hashes),
+            SamplerKind::MultiJittered => self.multijittered(pixel, dim, (n, m), key, out, hashes),
         }
     }
 
@@ -279,14 +284,11 @@ impl PixelSampler {
         &self,
         pixel: Pixel,
         dim: u32,
+        (n, m): (u32, u32),
         key: PixelKey,
         out: &mut Vec<(f64, f64)>,
         hashes: &mut Vec<u64>,
     ) {
-        let (n, m) = (
-            self.n.clamp(1, MAX_SAMPLES),
-            self.rows.clamp(1, MAX_SAMPLES),
-        );
         let (nf, mf) = (Divisor::new(n), Divisor::new(m));
         let (nu, mu) = (n as usize, m as usize);
         let nm = nu * mu;

@@ -811,9 +811,7 @@ fn mixing_all_at_once_is_mixing_each_by_either_path() {
         mix_all_scalar(&mut b);
         assert_eq!(b, want, "scalar, {len}");
         #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx512dq")
-            && std::arch::is_x86_feature_detected!("avx512vl")
-        {
+        if avx512_mix_available() {
             let mut c = xs.clone();
             // SAFETY: the CPU has the features, checked just above.
             unsafe { mix_all_avx512(&mut c) };
