@@ -348,3 +348,21 @@ fn more_blockers_than_the_list_holds_send_the_rays_to_the_tree() {
         }
     }
 }
+
+#[test]
+fn a_few_objects_get_a_leaf_each_and_no_empty_cells() {
+    // glass_full's five objects: the world's SAH constants (no bonus for
+    // cutting off empty space) keep the tree to one leaf per object, not
+    // a ladder of empty cells that every ray steps through.
+    let balls = [
+        (DVec3::new(-1.3, 1.0, 0.0), 1.0),
+        (DVec3::new(1.3, 0.62, 0.6), 0.85),
+        (DVec3::new(0.4, 0.4, 2.2), 0.4),
+        (DVec3::new(0.1, 0.5, -1.8), 0.5),
+        (DVec3::new(1.8, 1.2, -2.2), 0.7),
+    ];
+    let world = balls_over_a_floor(&balls, Accel::KdTree);
+    let t = world.stats.tree;
+    assert_eq!((t.leaves, t.empty_leaves, t.references), (5, 0, 5), "{t:?}");
+    assert!(t.max_depth <= 3, "{t:?}");
+}

@@ -71,23 +71,31 @@ pub(super) struct BoxRay {
     pub o_far: [f32; 3],
     /// 1 / direction, in `f32` (±∞ for a zero component).
     pub inv: [f32; 3],
-    /// Per axis: the direction is negative (its sign bit is set), so the
-    /// entry plane is the box's `hi`.
-    pub neg: [bool; 3],
+    /// Bit `a` set: the direction along axis `a` is negative (its sign
+    /// bit is set), so the entry plane is the box's `hi`. Bits in one
+    /// word, not three `bool`s: the walk reads them as one load, which a
+    /// store of three bytes cannot forward to (a stall on every query).
+    pub neg: u32,
 }
 
 impl BoxRay {
+    /// Whether the direction along `axis` is negative.
+    #[inline(always)]
+    pub(super) fn is_neg(&self, axis: usize) -> bool {
+        self.neg >> axis & 1 != 0
+    }
+
     pub(super) fn new(origin: [f64; 3], dir: [f64; 3]) -> BoxRay {
         let mut r = BoxRay {
             o_near: [0.0; 3],
             o_far: [0.0; 3],
             inv: [0.0; 3],
-            neg: [false; 3],
+            neg: 0,
         };
         for a in 0..3 {
             let neg = dir[a].is_sign_negative();
             let (up, down) = (round_up(origin[a]), round_down(origin[a]));
-            r.neg[a] = neg;
+            r.neg |= (neg as u32) << a;
             // t = (plane − o)·inv: for inv ≥ 0 a larger o gives a smaller t.
             (r.o_near[a], r.o_far[a]) = if neg { (down, up) } else { (up, down) };
             r.inv[a] = 1.0 / (dir[a] as f32);
@@ -145,7 +153,7 @@ pub(super) unsafe fn box_ray_avx(origin: [f64; 3], dir: [f64; 3]) -> BoxRay {
         o_near: first3(lanes[0]),
         o_far: first3(lanes[1]),
         inv: first3(lanes[2]),
-        neg: [neg & 1 != 0, neg & 2 != 0, neg & 4 != 0],
+        neg: neg & 7,
     }
 }
 
@@ -197,7 +205,7 @@ pub(super) fn hits_scalar(n: &Node8, r: &BoxRay, t_min: f32, t_max: f32) -> (u32
     for (k, near_k) in near.iter_mut().enumerate() {
         let (mut tn, mut tf) = (t_min, t_max);
         for a in 0..3 {
-            let (pn, pf) = if r.neg[a] {
+            let (pn, pf) = if r.is_neg(a) {
                 (n.hi[a][k], n.lo[a][k])
             } else {
                 (n.lo[a][k], n.hi[a][k])
@@ -227,7 +235,7 @@ pub(super) unsafe fn hits_avx2(n: &Node8, r: &BoxRay, t_min: f32, t_max: f32) ->
     let mut tn = _mm256_set1_ps(t_min);
     let mut tf = _mm256_set1_ps(t_max);
     for a in 0..3 {
-        let (pn, pf) = if r.neg[a] {
+        let (pn, pf) = if r.is_neg(a) {
             (&n.hi[a], &n.lo[a])
         } else {
             (&n.lo[a], &n.hi[a])
