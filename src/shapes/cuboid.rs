@@ -30,6 +30,11 @@ struct Face {
 }
 
 impl Face {
+    #[inline(always)]
+    fn new(axis: usize, high: bool) -> Face {
+        Face { axis, high }
+    }
+
     fn normal(self) -> DVec3 {
         let mut normal = DVec3::ZERO;
         normal[self.axis] = if self.high { 1.0 } else { -1.0 };
@@ -58,55 +63,36 @@ impl Cuboid {
     /// checking the origin lies between their planes), so no 0·∞ NaN can
     /// leak into the comparisons.
     fn slabs(&self, ray: &Ray) -> Option<((f64, Face), (f64, Face))> {
-        let mut near = (
-            f64::NEG_INFINITY,
-            Face {
-                axis: 0,
-                high: false,
-            },
-        );
-        let mut far = (
-            f64::INFINITY,
-            Face {
-                axis: 0,
-                high: true,
-            },
-        );
-        for axis in 0..3 {
-            let (o, d) = (ray.origin[axis], ray.dir[axis]);
-            let (lo, hi) = (self.min[axis], self.max[axis]);
+        // Arrays, and one axis after another written out: indexing a
+        // DVec3 by a loop's axis is a `match` per access, and the loop
+        // over them stayed a loop (about 170 instructions a box, glass_full
+        // spends 8% of its time here). The same operations in the same
+        // order, so the same crossings.
+        let (o, d) = (ray.origin.to_array(), ray.dir.to_array());
+        let (lo, hi) = (self.min.to_array(), self.max.to_array());
+        let mut near = (f64::NEG_INFINITY, Face::new(0, false));
+        let mut far = (f64::INFINITY, Face::new(0, true));
+        let mut axis = |a: usize| -> bool {
+            let (o, d) = (o[a], d[a]);
+            let (lo, hi) = (lo[a], hi[a]);
             if d == 0.0 {
-                if o < lo || o > hi {
-                    return None;
-                }
-                continue;
+                return !(o < lo || o > hi);
             }
             let inv = 1.0 / d;
             let (t_lo, t_hi) = ((lo - o) * inv, (hi - o) * inv);
             // Entering through the low face when moving up the axis.
-            let (enter, leave) = if d > 0.0 {
-                ((t_lo, false), (t_hi, true))
-            } else {
-                ((t_hi, true), (t_lo, false))
-            };
-            if enter.0 > near.0 {
-                near = (
-                    enter.0,
-                    Face {
-                        axis,
-                        high: enter.1,
-                    },
-                );
+            let up = d > 0.0;
+            let (enter, leave) = if up { (t_lo, t_hi) } else { (t_hi, t_lo) };
+            if enter > near.0 {
+                near = (enter, Face::new(a, !up));
             }
-            if leave.0 < far.0 {
-                far = (
-                    leave.0,
-                    Face {
-                        axis,
-                        high: leave.1,
-                    },
-                );
+            if leave < far.0 {
+                far = (leave, Face::new(a, up));
             }
+            true
+        };
+        if !(axis(0) && axis(1) && axis(2)) {
+            return None;
         }
         (near.0 <= far.0 && near.0.is_finite() && far.0.is_finite()).then_some((near, far))
     }
