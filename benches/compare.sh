@@ -31,7 +31,8 @@
 # REUSE_POV [0; 1 reads POV-Ray's last results instead of running it again],
 # SCENES [all twelve], BIN [the release build of this tree], EMBREE [path to
 # bunny_embree; built when missing; `none` skips Embree], EMBREE_DIR
-# [/tmp/embree-peer], PLY [../shared/data/bunny.ply]
+# [/tmp/embree-peer], PLY [../shared/data/bunny.ply], EMBREE_RUNS [RUNS,
+# at least 9: runs of each Embree mode, each beside a run of our bunny]
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 PEER="${PEER:-$ROOT/../shared/peers/povray}"
@@ -42,6 +43,7 @@ SCENES="${SCENES:-bunny bunny_flat torus torus_native sextic csg glass glass_ful
 EMBREE_DIR="${EMBREE_DIR:-/tmp/embree-peer}"
 EMBREE="${EMBREE:-$EMBREE_DIR/bunny_embree}"
 PLY="${PLY:-$ROOT/../shared/data/bunny.ply}"
+EMBREE_RUNS="${EMBREE_RUNS:-$(( RUNS > 9 ? RUNS : 9 ))}"
 OUT="$ROOT/target/compare"
 mkdir -p "$OUT"
 
@@ -64,7 +66,20 @@ if [ -z "${BIN:-}" ]; then
 fi
 
 median() { sort -g | awk '{a[NR]=$1} END {print a[int((NR+1)/2)]}'; }
-spread() { sort -g | awk 'NR==1 {lo=$1} {hi=$1} END {printf "%.2f-%.2f", lo, hi}'; }
+
+# Runs a command under GNU time (peak RSS, user and system CPU) and sets
+# W (wall seconds), M (KiB), U and SY (CPU seconds). The wall time is
+# read from the shell's microsecond clock around it: GNU time's own %e
+# has 10 ms steps, coarse against Embree's 0.2 s bunny.
+timed() {
+  local t0 t1
+  t0=$EPOCHREALTIME
+  /usr/bin/time -f '%M %U %S' -o "$OUT/timed.time" "$@"
+  t1=$EPOCHREALTIME
+  read -r M U SY < "$OUT/timed.time"
+  W=$(awk -v a="$t0" -v b="$t1" 'BEGIN {printf "%.4f", b - a}')
+}
+spread() { sort -g | awk 'NR==1 {lo=$1} {hi=$1} END {printf "%.3f-%.3f", lo, hi}'; }
 
 echo "machine: $(nproc) cores, $(lscpu | sed -n 's/^Model name: *//p'); load before: $(uptime | sed 's/.*load average: //')" >&2
 
@@ -125,11 +140,10 @@ for s in $SCENES; do
   pn=$(pov_name "$s")
   for i in $(seq 1 "$RUNS"); do
     [ "$INTERLEAVE" = 1 ] && [ "$REUSE_POV" = 0 ] && pov_once "$pn" "$i"
-    /usr/bin/time -f '%e %M %U %S' -o "$OUT/$s.time" "$BIN" "$ROOT/benches/scenes/$s.rt" \
+    timed "$BIN" "$ROOT/benches/scenes/$s.rt" \
       -o "$OUT/$s.png" --width "$SIZE" --height "$SIZE" --threads "$THREADS" --quiet --stats \
       2>"$OUT/$s.stats"
-    read -r w m u sy < "$OUT/$s.time"
-    walls+=("$w"); rss+=("$m"); cpus+=("$(awk -v u="$u" -v s="$sy" 'BEGIN {print u + s}')")
+    walls+=("$W"); rss+=("$M"); cpus+=("$(awk -v u="$U" -v s="$SY" 'BEGIN {print u + s}')")
     rps=$(awk '/^rays\/s/ {print $2}' "$OUT/$s.stats")
     builds+=("$(awk '/^build / {print $2}' "$OUT/$s.stats")")
   done
@@ -167,17 +181,32 @@ if [ ! -x "$EMBREE" ]; then
   "$EMBREE_DIR/build.sh"
   EMBREE="$EMBREE_DIR/bunny_embree"
 fi
-echo "== Embree: $EMBREE" >&2
-printf '\n%-16s %8s %11s %8s %8s %12s %12s\n' embree_bunny wall_s spread cpu_s MiB bunny/embree bunny/e_cpu
+echo "== Embree: $EMBREE, $EMBREE_RUNS runs a mode, each beside one of our bunny" >&2
+# Our bunny again, one run beside each of Embree's (they take a fifth of a
+# second: a few runs leave the ratio to the machine's drift), and the
+# ratios against the median of all of these.
+walls=(); cpus=()
 for mode in "single high" "single medium" "packet8 high" "packet8 medium"; do
   set -- $mode
-  walls=(); rss=(); cpus=()
-  for i in $(seq 1 "$RUNS"); do
-    /usr/bin/time -f '%e %M %U %S' -o "$OUT/embree.time" "$EMBREE" --ply "$PLY" --out none \
+  ewalls=(); erss=(); ecpus=()
+  for i in $(seq 1 "$EMBREE_RUNS"); do
+    timed "$EMBREE" --ply "$PLY" --out none \
       --threads "$THREADS" --size "$SIZE" --mode "$1" --quality "$2" >/dev/null 2>&1
-    read -r w m u sy < "$OUT/embree.time"
-    walls+=("$w"); rss+=("$m"); cpus+=("$(awk -v u="$u" -v s="$sy" 'BEGIN {print u + s}')")
+    ewalls+=("$W"); erss+=("$M"); ecpus+=("$(awk -v u="$U" -v s="$SY" 'BEGIN {print u + s}')")
+    timed "$BIN" "$ROOT/benches/scenes/bunny.rt" -o "$OUT/bunny.png" \
+      --width "$SIZE" --height "$SIZE" --threads "$THREADS" --quiet
+    walls+=("$W"); cpus+=("$(awk -v u="$U" -v s="$SY" 'BEGIN {print u + s}')")
   done
+  eval "e_walls_${1}_$2=\"\${ewalls[*]}\"; e_rss_${1}_$2=\"\${erss[*]}\"; e_cpus_${1}_$2=\"\${ecpus[*]}\""
+done
+bunny_wall=$(printf '%s\n' "${walls[@]}" | median)
+bunny_cpu=$(printf '%s\n' "${cpus[@]}" | median)
+printf '\nour bunny beside them: %.3f s (%s) wall, %.2f s CPU, %d runs\n' \
+  "$bunny_wall" "$(printf '%s\n' "${walls[@]}" | spread)" "$bunny_cpu" "${#walls[@]}"
+printf '%-16s %8s %11s %8s %8s %12s %12s\n' embree_bunny wall_s spread cpu_s MiB bunny/embree bunny/e_cpu
+for mode in "single high" "single medium" "packet8 high" "packet8 medium"; do
+  set -- $mode
+  eval "walls=(\$e_walls_${1}_$2); rss=(\$e_rss_${1}_$2); cpus=(\$e_cpus_${1}_$2)"
   ew=$(printf '%s\n' "${walls[@]}" | median)
   esp=$(printf '%s\n' "${walls[@]}" | spread)
   em=$(printf '%s\n' "${rss[@]}" | median)
