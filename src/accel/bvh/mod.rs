@@ -398,13 +398,25 @@ fn push_sorted(stack: &mut Stack, n: &Node8, mask: u32, near: &[f32; 8]) {
     if hits == 0 {
         return;
     }
-    if hits == 1 {
-        let k = mask.trailing_zeros() as usize;
+    let push = |stack: &mut Stack, k: usize| {
         stack.push(Entry {
             child: n.child[k],
             count: n.count[k],
             near: near[k],
-        });
+        })
+    };
+    if hits == 1 {
+        push(stack, mask.trailing_zeros() as usize);
+        return;
+    }
+    if hits == 2 {
+        // The sort below for two, without its loops: the nearer pushed
+        // last; on a tie the higher slot last, as the sort leaves them.
+        let a = mask.trailing_zeros() as usize;
+        let b = (mask & (mask - 1)).trailing_zeros() as usize;
+        let (far, near_one) = if near[a] < near[b] { (b, a) } else { (a, b) };
+        push(stack, far);
+        push(stack, near_one);
         return;
     }
     // Insertion sort, far first, of at most eight.
@@ -423,12 +435,7 @@ fn push_sorted(stack: &mut Stack, n: &Node8, mask: u32, near: &[f32; 8]) {
         len += 1;
     }
     for &k in &order[..len] {
-        let k = k as usize;
-        stack.push(Entry {
-            child: n.child[k],
-            count: n.count[k],
-            near: near[k],
-        });
+        push(stack, k as usize);
     }
 }
 

@@ -315,6 +315,7 @@ fn children_are_popped_nearest_first() {
         push_sorted(&mut stack, &n, mask, &near);
         let mut seen = 0u32;
         let mut last = f32::NEG_INFINITY;
+        let mut last_k = usize::MAX;
         while let Some(e) = stack.pop() {
             if e.child == 7 {
                 assert_eq!(stack.pop().map(|e| e.child), None);
@@ -327,7 +328,14 @@ fn children_are_popped_nearest_first() {
             assert_eq!(e.count, n.count[k]);
             assert_eq!(e.near.to_bits(), near[k].to_bits());
             assert!(e.near >= last, "{mask:08b} {near:?}: popped out of order");
+            // Equal distances: the higher slot first, whatever the count
+            // of children hit (the two-child path sorts as the loop does).
+            assert!(
+                e.near != last || k < last_k,
+                "{mask:08b} {near:?}: a tie popped low slot first"
+            );
             last = e.near;
+            last_k = k;
         }
         assert_eq!(seen, mask, "{near:?}");
     }
