@@ -13,7 +13,9 @@
 # ours / POV-Ray, and the spread (min-max) of our runs. Then the bunny with
 # Embree (../shared/peers/embree, built into $EMBREE_DIR with its build.sh;
 # `apt-get install libembree-dev` first): single rays at high and medium
-# build quality and 8-wide packets, and our bunny's wall over each.
+# build quality and 8-wide packets, each run beside a run of our bunny,
+# and our bunny's median wall over each mode's. Wall times come from the
+# shell's microsecond clock, peak RSS and CPU from GNU time.
 # Images land in target/compare/.
 #
 # Besides wall time it prints whole-process CPU time (user + system, GNU
