@@ -245,19 +245,6 @@ const OBJECTS: bvh::BvhParams = bvh::BvhParams {
     max_leaf: 4,
 };
 
-/// The kd-tree's SAH constants for scene objects: the textbook empty
-/// bonus (half the cost off a split that leaves one side empty) cut a
-/// scene of five objects into 11 leaves, 6 of them empty, and a ray took
-/// ten steps through them; without it the tree is one leaf per object
-/// (depth 3), and `glass_full`, `glass`, `many` and `bunny_grid` render
-/// 4-20% faster (interleaved runs, session 19), `dof` and `soft` (their
-/// rays go through beams and shafts) as fast.
-const WORLD_TREE: BuildParams = BuildParams {
-    item_cost: 2.0,
-    empty_bonus: 0.0,
-    depth_base: 8.0,
-};
-
 impl World {
     /// The objects indexed by the default structure.
     pub fn build(objects: Vec<Box<dyn Shape>>) -> World {
@@ -279,7 +266,7 @@ impl World {
         let (index, nodes, tree, bvh, tree_bytes) = match accel {
             // Auto: the kd-tree over the scene's objects.
             Accel::KdTree | Accel::Auto => {
-                let t = KdTree::build_with(&boxes, WORLD_TREE);
+                let t = KdTree::build(&boxes);
                 let (n, s, bytes) = (t.stats.nodes, t.stats, t.memory());
                 (WorldIndex::Kd(t), n, s, None, bytes)
             }
