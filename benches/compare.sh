@@ -69,17 +69,18 @@ fi
 
 median() { sort -g | awk '{a[NR]=$1} END {print a[int((NR+1)/2)]}'; }
 
-# Runs a command under GNU time (peak RSS, user and system CPU) and sets
-# W (wall seconds), M (KiB), U and SY (CPU seconds). The wall time is
-# read from the shell's microsecond clock around it: GNU time's own %e
-# has 10 ms steps, coarse against Embree's 0.2 s bunny.
+# Runs a command under GNU time and sets W (wall seconds), M (peak RSS,
+# KiB) and C (CPU seconds, user + system). The wall time is read from the
+# shell's microsecond clock around it: GNU time's own %e has 10 ms steps,
+# coarse against Embree's 0.2 s bunny.
 timed() {
-  local t0 t1
+  local t0 t1 u sy
   t0=$EPOCHREALTIME
   /usr/bin/time -f '%M %U %S' -o "$OUT/timed.time" "$@"
   t1=$EPOCHREALTIME
-  read -r M U SY < "$OUT/timed.time"
+  read -r M u sy < "$OUT/timed.time"
   W=$(awk -v a="$t0" -v b="$t1" 'BEGIN {printf "%.4f", b - a}')
+  C=$(awk -v u="$u" -v s="$sy" 'BEGIN {print u + s}')
 }
 spread() { sort -g | awk 'NR==1 {lo=$1} {hi=$1} END {printf "%.3f-%.3f", lo, hi}'; }
 
@@ -145,7 +146,7 @@ for s in $SCENES; do
     timed "$BIN" "$ROOT/benches/scenes/$s.rt" \
       -o "$OUT/$s.png" --width "$SIZE" --height "$SIZE" --threads "$THREADS" --quiet --stats \
       2>"$OUT/$s.stats"
-    walls+=("$W"); rss+=("$M"); cpus+=("$(awk -v u="$U" -v s="$SY" 'BEGIN {print u + s}')")
+    walls+=("$W"); rss+=("$M"); cpus+=("$C")
     rps=$(awk '/^rays\/s/ {print $2}' "$OUT/$s.stats")
     builds+=("$(awk '/^build / {print $2}' "$OUT/$s.stats")")
   done
@@ -187,33 +188,34 @@ echo "== Embree: $EMBREE, $EMBREE_RUNS runs a mode, each beside one of our bunny
 # Our bunny again, one run beside each of Embree's (they take a fifth of a
 # second: a few runs leave the ratio to the machine's drift), and the
 # ratios against the median of all of these.
+MODES=("single high" "single medium" "packet8 high" "packet8 medium")
+declare -A E_WALLS E_RSS E_CPUS
 walls=(); cpus=()
-for mode in "single high" "single medium" "packet8 high" "packet8 medium"; do
+for mode in "${MODES[@]}"; do
   set -- $mode
-  ewalls=(); erss=(); ecpus=()
   for i in $(seq 1 "$EMBREE_RUNS"); do
     timed "$EMBREE" --ply "$PLY" --out none \
       --threads "$THREADS" --size "$SIZE" --mode "$1" --quality "$2" >/dev/null 2>&1
-    ewalls+=("$W"); erss+=("$M"); ecpus+=("$(awk -v u="$U" -v s="$SY" 'BEGIN {print u + s}')")
+    E_WALLS[$mode]+="$W "; E_RSS[$mode]+="$M "; E_CPUS[$mode]+="$C "
     timed "$BIN" "$ROOT/benches/scenes/bunny.rt" -o "$OUT/bunny.png" \
       --width "$SIZE" --height "$SIZE" --threads "$THREADS" --quiet
-    walls+=("$W"); cpus+=("$(awk -v u="$U" -v s="$SY" 'BEGIN {print u + s}')")
+    walls+=("$W"); cpus+=("$C")
   done
-  eval "e_walls_${1}_$2=\"\${ewalls[*]}\"; e_rss_${1}_$2=\"\${erss[*]}\"; e_cpus_${1}_$2=\"\${ecpus[*]}\""
 done
 bunny_wall=$(printf '%s\n' "${walls[@]}" | median)
 bunny_cpu=$(printf '%s\n' "${cpus[@]}" | median)
 printf '\nour bunny beside them: %.3f s (%s) wall, %.2f s CPU, %d runs\n' \
   "$bunny_wall" "$(printf '%s\n' "${walls[@]}" | spread)" "$bunny_cpu" "${#walls[@]}"
 printf '%-16s %8s %11s %8s %8s %12s %12s\n' embree_bunny wall_s spread cpu_s MiB bunny/embree bunny/e_cpu
-for mode in "single high" "single medium" "packet8 high" "packet8 medium"; do
-  set -- $mode
-  eval "walls=(\$e_walls_${1}_$2); rss=(\$e_rss_${1}_$2); cpus=(\$e_cpus_${1}_$2)"
+for mode in "${MODES[@]}"; do
+  read -ra walls <<< "${E_WALLS[$mode]}"
+  read -ra rss <<< "${E_RSS[$mode]}"
+  read -ra cpus <<< "${E_CPUS[$mode]}"
   ew=$(printf '%s\n' "${walls[@]}" | median)
   esp=$(printf '%s\n' "${walls[@]}" | spread)
   em=$(printf '%s\n' "${rss[@]}" | median)
   ec=$(printf '%s\n' "${cpus[@]}" | median)
-  awk -v n="$1 $2" -v ew="$ew" -v esp="$esp" -v ec="$ec" -v em="$em" -v bw="$bunny_wall" -v bc="$bunny_cpu" 'BEGIN {
+  awk -v n="$mode" -v ew="$ew" -v esp="$esp" -v ec="$ec" -v em="$em" -v bw="$bunny_wall" -v bc="$bunny_cpu" 'BEGIN {
     printf "%-16s %8.3f %11s %8.2f %8.1f %12s %12s\n", n, ew, esp, ec, em / 1024,
       (bw != "" && ew > 0 ? sprintf("%.2f", bw / ew) : "-"), (bc != "" && ec > 0 ? sprintf("%.2f", bc / ec) : "-") }'
 done
