@@ -418,6 +418,15 @@ fn nearer<'w>(
     }
 }
 
+/// [`World::first_hits`]' buffers, kept by the caller from pixel to pixel.
+#[derive(Debug, Default)]
+pub struct FirstHits {
+    best: Vec<f64>,
+    won: Vec<bool>,
+    by: Vec<Option<usize>>,
+    written: Vec<bool>,
+}
+
 /// The objects of a [`World`] that may block the rays inside one
 /// [`Shaft`] (at most [`Blockers::MAX`]): the rays are tested against
 /// these alone, and not at all when there are none. The same short list
@@ -555,6 +564,69 @@ impl World {
             nearer(self.object(id), ray, t_min, &mut t_best, hit, &mut best);
         }
         best
+    }
+
+    /// [`World::nearest_among`] for every ray of a pixel's beam, the same
+    /// hits (`hits[i]`, and the object hit in `objects[i]`): each
+    /// candidate meets all the rays in turn, not each ray all the
+    /// candidates, so a shape with roots apart from its hits
+    /// ([`Shape::roots`]) is one call for the lot, and makes its hit only
+    /// for the rays it keeps in the end (a floor met behind a sphere no
+    /// longer builds its hit first).
+    pub fn first_hits<'w>(
+        &'w self,
+        candidates: &Blockers,
+        rays: &[Ray],
+        hits: &mut [Hit],
+        objects: &mut Vec<Option<&'w dyn Shape>>,
+        s: &mut FirstHits,
+    ) {
+        let n = rays.len();
+        debug_assert!(hits.len() == n);
+        let fill = |v: &mut Vec<_>, x| {
+            v.clear();
+            v.resize(n, x);
+        };
+        fill(&mut s.best, f64::INFINITY);
+        // Per ray, which candidate holds its nearest hit so far, and
+        // whether that hit is written yet.
+        s.by.clear();
+        s.by.resize(n, None);
+        s.written.clear();
+        s.written.resize(n, false);
+        for (k, &id) in candidates.ids[..candidates.len].iter().enumerate() {
+            let o = self.object(id);
+            match o.roots() {
+                Some(r) => {
+                    s.won.clear();
+                    s.won.resize(n, false);
+                    r.nearest_roots(rays, 0.0, &mut s.best, &mut s.won);
+                    for (i, _) in s.won.iter().enumerate().filter(|(_, w)| **w) {
+                        s.by[i] = Some(k);
+                        s.written[i] = false;
+                    }
+                }
+                None => {
+                    for (i, (ray, hit)) in rays.iter().zip(hits.iter_mut()).enumerate() {
+                        if o.intersect_into(ray, 0.0, s.best[i], hit) {
+                            s.best[i] = hit.t;
+                            s.by[i] = Some(k);
+                            s.written[i] = true;
+                        }
+                    }
+                }
+            }
+        }
+        objects.clear();
+        for (i, (ray, hit)) in rays.iter().zip(hits.iter_mut()).enumerate() {
+            let object = s.by[i].map(|k| self.object(candidates.ids[k]));
+            if let (Some(o), false) = (object, s.written[i])
+                && let Some(r) = o.roots()
+            {
+                r.hit_at_root(ray, s.best[i], hit);
+            }
+            objects.push(object);
+        }
     }
 
     /// The object a [`Blockers`] id names.

@@ -366,3 +366,97 @@ fn a_few_objects_get_a_leaf_each_and_no_empty_cells() {
     assert_eq!((t.leaves, t.empty_leaves, t.references), (5, 0, 5), "{t:?}");
     assert!(t.max_depth <= 3, "{t:?}");
 }
+
+/// A pixel's rays found together ([`World::first_hits`]) hit what each
+/// finds alone among its beam's objects: the same object and the same hit
+/// to the bit, for shapes with roots apart from their hits (balls, the
+/// floor) and without (boxes), in any order the beam lists them, for
+/// counts that fill the four lanes and leave a tail.
+#[test]
+fn a_pixels_rays_found_together_hit_what_each_finds_alone() {
+    let _watchdog = crate::watchdog::start();
+    let mut rnd = beam::tests::rng(0x00f1_25a7);
+    let balls = random_balls(14, 0.2, 0.6, &mut rnd);
+    let mut objects: Vec<Box<dyn Shape>> = balls
+        .iter()
+        .enumerate()
+        .map(|(i, &(c, r))| -> Box<dyn Shape> {
+            if i % 3 == 0 {
+                let h = DVec3::splat(r);
+                Box::new(crate::shapes::Cuboid::new(c - h, c + h, [i as u32; 6]))
+            } else {
+                Box::new(Sphere::new(c, r, i as u32))
+            }
+        })
+        .collect();
+    objects.push(Box::new(Plane::new(DVec3::Y, -0.5, 999)));
+    let world = World::build(objects);
+    let mut scratch = FirstHits::default();
+    let (mut hits_seen, mut misses, mut boxes) = (0, 0, 0);
+    for trial in 0..300 {
+        let eye = DVec3::new(rnd() * 24.0 - 12.0, 1.0 + rnd() * 6.0, 14.0);
+        let target = DVec3::new(rnd() * 8.0 - 4.0, rnd() * 4.0, rnd() * 8.0 - 4.0);
+        let f = beam::tests::family(eye, target - eye, 0.3 * rnd(), 2.0 + 20.0 * rnd());
+        let Some(among) = world.beam_candidates(&f) else {
+            continue;
+        };
+        let n = [32, 9, 7, 16, 1][trial % 5];
+        let rays: Vec<Ray> = (0..n)
+            .map(|_| {
+                let lens = (2.0 * rnd() - 1.0, 2.0 * rnd() - 1.0);
+                beam::tests::ray_of(&f, lens, (rnd(), rnd()))
+            })
+            .collect();
+        let mut hits = vec![Hit::default(); n];
+        let mut objects = Vec::new();
+        world.first_hits(&among, &rays, &mut hits, &mut objects, &mut scratch);
+        assert_eq!(objects.len(), n);
+        for (i, ray) in rays.iter().enumerate() {
+            let mut want = Hit::default();
+            match (
+                world.nearest_among(&among, ray, 0.0, f64::INFINITY, &mut want),
+                objects[i],
+            ) {
+                (Some(w), Some(g)) => {
+                    assert!(std::ptr::addr_eq(w, g), "another object");
+                    assert_eq!(format!("{:?}", hits[i]), format!("{want:?}"));
+                    hits_seen += 1;
+                    boxes += (want.material % 3 == 0 && want.material != 999) as u32;
+                }
+                (None, None) => misses += 1,
+                (w, g) => panic!("alone {:?}, together {:?}", w.is_some(), g.is_some()),
+            }
+        }
+    }
+    assert!(
+        hits_seen > 1000 && misses > 10 && boxes > 50,
+        "{hits_seen} {misses} {boxes}"
+    );
+    // A box listed first holds the ray's hit, then a ball listed after it
+    // comes nearer: the ball's hit is the one made.
+    let world = World::build(vec![
+        Box::new(crate::shapes::Cuboid::new(
+            DVec3::new(-1.0, 0.0, -6.0),
+            DVec3::new(1.0, 2.0, -4.0),
+            [7; 6],
+        )),
+        Box::new(Sphere::new(DVec3::new(0.0, 1.0, 0.0), 1.0, 8)),
+    ]);
+    let mut among = Blockers::default();
+    assert!(among.push(0) && among.push(1));
+    let rays: Vec<Ray> = (0..6)
+        .map(|i| Ray::new(DVec3::new(0.1 * i as f64, 1.0, 10.0), -DVec3::Z))
+        .collect();
+    let mut hits = vec![Hit::default(); rays.len()];
+    let mut objects = Vec::new();
+    world.first_hits(&among, &rays, &mut hits, &mut objects, &mut scratch);
+    for (ray, hit) in rays.iter().zip(&hits) {
+        let mut want = Hit::default();
+        assert!(
+            world
+                .nearest_among(&among, ray, 0.0, f64::INFINITY, &mut want)
+                .is_some()
+        );
+        assert_eq!((hit.material, format!("{hit:?}")), (8, format!("{want:?}")));
+    }
+}

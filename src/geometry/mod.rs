@@ -10,8 +10,8 @@ pub use aabb::Aabb;
 pub use glam::{DMat3, DMat4, DVec2, DVec3};
 pub use ray::Ray;
 pub use rounding::{
-    normalize_near_unit, offset_along_unit, offset_ray_origin, renormalize, shadow_ray_to,
-    valid_reflection_normal,
+    normalize_near_unit, offset_along_unit, offset_ray_origin, offset_towards, renormalize,
+    shadow_ray_to, valid_reflection_normal,
 };
 pub use transform::Transform;
 

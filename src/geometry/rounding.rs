@@ -97,6 +97,16 @@ pub fn offset_along_unit(p: DVec3, p_error: DVec3, unit_normal: DVec3, dir: DVec
     if dir.dot(n) < 0.0 {
         n = -n;
     }
+    offset_towards(p, p_error, n)
+}
+
+/// [`offset_along_unit`] to the side `n` itself faces (`n` unit or zero,
+/// already turned towards where the ray goes): the point every ray leaving
+/// on the normal's side starts from. Asked for that side, with `dir` a
+/// positive multiple of `n`, `offset_along_unit` never turns `n` (n·n ≥ 0),
+/// and every shading point asks once.
+#[inline(always)]
+pub fn offset_towards(p: DVec3, p_error: DVec3, n: DVec3) -> DVec3 {
     let po = p + n * n.abs().dot(p_error);
     // Rounding `p + offset` may land back towards the surface, and a point
     // with no error (snapped onto an axis-aligned face) would not move at
@@ -345,6 +355,19 @@ mod tests {
                 b.to_array().map(f64::to_bits)
             );
             assert_ne!(a, p, "the point must move");
+            // Towards the normal's own side (a shading point's lift): the
+            // side test is never needed, whatever the normal's length,
+            // and the other side is another point.
+            for n in [n, n * 1e-9, n * 1e9, n.normalize()] {
+                let unit = normalize_near_unit(n);
+                let along = offset_along_unit(p, err, unit, n);
+                let towards = offset_towards(p, err, unit);
+                assert_eq!(
+                    along.to_array().map(f64::to_bits),
+                    towards.to_array().map(f64::to_bits)
+                );
+                assert_ne!(towards, offset_towards(p, err, -unit));
+            }
         }
     }
 

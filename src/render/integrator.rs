@@ -20,11 +20,12 @@ use super::light::{self, LightSample, area, environment};
 use super::material::{dielectric, emissive, glossy, matte, mirror, phong};
 use super::sampler::SampleStream;
 use super::stats::RayCounts;
-use crate::accel::{Blockers, Shaft, World};
+use crate::accel::{Blockers, FirstHits, Shaft, World};
 use crate::geometry::Aabb;
 use crate::geometry::rounding::SHADOW_EPSILON;
 use crate::geometry::{
-    DVec3, Ray, normalize_near_unit, offset_along_unit, offset_ray_origin, valid_reflection_normal,
+    DVec3, Ray, normalize_near_unit, offset_along_unit, offset_ray_origin, offset_towards,
+    valid_reflection_normal,
 };
 use crate::scene::{AreaLight, Colour, LightKind, LightSurface, Material, Scene, pattern};
 use crate::shapes::{Hit, Shape};
@@ -140,6 +141,19 @@ impl<'a> Integrator<'a> {
         }
     }
 
+    /// [`Integrator::first_hit`] of every camera ray of a pixel, among the
+    /// objects its beam meets (`objects[i]` is ray i's, `None` on a miss).
+    pub fn first_hits(
+        &self,
+        among: &Blockers,
+        rays: &[Ray],
+        hits: &mut [Hit],
+        objects: &mut Vec<Option<&'a dyn Shape>>,
+        scratch: &mut FirstHits,
+    ) {
+        self.world.first_hits(among, rays, hits, objects, scratch);
+    }
+
     /// The colour a camera ray brings from the first hit
     /// [`Integrator::first_hit`] found (`None`: it met nothing), as
     /// [`Integrator::trace`] would give it. `lights` may hold, per light
@@ -231,7 +245,8 @@ impl<'a> Integrator<'a> {
             ng_offset,
             n,
             d: ray.dir,
-            lifted: offset_along_unit(p, p_err, ng_offset, ng),
+            // Along ng, which ng_offset (a positive multiple of it) faces.
+            lifted: offset_towards(p, p_err, ng_offset),
             front,
         };
         let c = self.shade(material, hit, &at, depth, path, lights);

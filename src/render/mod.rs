@@ -184,6 +184,8 @@ struct Scratch<'w> {
     rays: Vec<crate::geometry::Ray>,
     hits: Vec<Hit>,
     objects: Vec<Option<&'w dyn Shape>>,
+    /// What finding them all at once keeps.
+    first: crate::accel::FirstHits,
     /// Per light, what may block the shadow rays from the pixel's hits.
     lights: Vec<Option<crate::accel::Blockers>>,
     /// Each sample's colour, for the adaptive test.
@@ -263,16 +265,29 @@ impl<'a> PixelRenderer<'a> {
             // Each hit is written where it stays (a hit is 160 bytes).
             scratch.hits.resize(n, Hit::default());
             scratch.objects.clear();
+            match &among {
+                Some(objects) => self.integrator.first_hits(
+                    objects,
+                    &scratch.rays,
+                    &mut scratch.hits,
+                    &mut scratch.objects,
+                    &mut scratch.first,
+                ),
+                None => {
+                    for (ray, hit) in scratch.rays.iter().zip(&mut scratch.hits) {
+                        let object = self.integrator.first_hit(ray, None, hit);
+                        scratch.objects.push(object);
+                    }
+                }
+            }
             let mut points = crate::geometry::Aabb::EMPTY;
-            for (ray, hit) in scratch.rays.iter().zip(&mut scratch.hits) {
-                let object = self.integrator.first_hit(ray, among.as_ref(), hit);
+            for (hit, object) in scratch.hits.iter().zip(&scratch.objects) {
                 if object.is_some() {
                     // Wide enough for the shading point's offset too.
                     let pad = crate::geometry::DVec3::splat(4.0 * hit.p_error.max_element());
                     points.min = points.min.min(hit.point - pad);
                     points.max = points.max.max(hit.point + pad);
                 }
-                scratch.objects.push(object);
             }
             self.integrator.light_blockers(&points, &mut scratch.lights);
             for (s, ray) in scratch.rays.iter().enumerate() {

@@ -155,6 +155,76 @@ thread_local! {
     static LITE_TMP: std::cell::Cell<Vec<Hit>> = const { std::cell::Cell::new(Vec::new()) };
 }
 
+/// Four rays' coordinates a lane each, for the shapes whose [`Roots`]
+/// take four rays at a time.
+#[cfg(target_arch = "x86_64")]
+pub(crate) mod lanes {
+    use crate::geometry::Ray;
+    use std::arch::x86_64::*;
+
+    /// Whether the CPU has AVX (asked once, then read from a cache).
+    pub fn available() -> bool {
+        std::arch::is_x86_feature_detected!("avx")
+    }
+
+    /// Origins and directions, coordinate by coordinate.
+    pub struct Rays {
+        pub ox: __m256d,
+        pub oy: __m256d,
+        pub oz: __m256d,
+        pub dx: __m256d,
+        pub dy: __m256d,
+        pub dz: __m256d,
+    }
+
+    impl Rays {
+        /// The first four of `rays` (which holds four), ray i in lane i.
+        ///
+        /// # Safety
+        /// The CPU must support AVX.
+        #[target_feature(enable = "avx")]
+        #[inline]
+        pub fn load(rays: &[Ray]) -> Rays {
+            let lane = |f: fn(&Ray) -> f64| {
+                _mm256_set_pd(f(&rays[3]), f(&rays[2]), f(&rays[1]), f(&rays[0]))
+            };
+            Rays {
+                ox: lane(|r| r.origin.x),
+                oy: lane(|r| r.origin.y),
+                oz: lane(|r| r.origin.z),
+                dx: lane(|r| r.dir.x),
+                dy: lane(|r| r.dir.y),
+                dz: lane(|r| r.dir.z),
+            }
+        }
+    }
+
+    /// glam's `dot` lane by lane, in its order: (x·x' + y·y') + z·z'.
+    #[target_feature(enable = "avx")]
+    #[inline]
+    pub fn dot(a: [__m256d; 3], b: [__m256d; 3]) -> __m256d {
+        _mm256_add_pd(
+            _mm256_add_pd(_mm256_mul_pd(a[0], b[0]), _mm256_mul_pd(a[1], b[1])),
+            _mm256_mul_pd(a[2], b[2]),
+        )
+    }
+}
+
+/// Shapes whose nearest root costs far less than their hit (a sphere's
+/// or a plane's hit re-projects its point and bounds its error): a pixel's
+/// camera rays are tested against such a shape together, and only the
+/// rays it keeps in the end get its hit ([`crate::accel::World::first_hits`]).
+pub trait Roots {
+    /// For each ray, the root [`Shape::intersect_into`] would hit within
+    /// (t_min, best[i]): written over best[i], with won[i] set. Nothing
+    /// else changes.
+    fn nearest_roots(&self, rays: &[Ray], t_min: f64, best: &mut [f64], won: &mut [bool]);
+
+    /// The hit [`Shape::intersect_into`] makes at root `t` of `ray`,
+    /// written into `hit` (handed back, its 160 bytes were copied).
+    fn hit_at_root(&self, ray: &Ray, t: f64, hit: &mut Hit);
+}
+
 /// A surface the renderer can trace.
 pub trait Shape: Send + Sync + std::fmt::Debug {
     /// The nearest hit with `t_min < t < t_max`.
@@ -173,6 +243,12 @@ pub trait Shape: Send + Sync + std::fmt::Debug {
             }
             None => false,
         }
+    }
+
+    /// The shape's roots apart from its hits, when it has such a route
+    /// ([`Roots`]): a pixel's many camera rays then meet it all at once.
+    fn roots(&self) -> Option<&dyn Roots> {
+        None
     }
 
     /// Whether the surface surely misses the convex hull of `points` (a
@@ -466,6 +542,81 @@ pub(crate) mod testing {
                 Ray::new(o, (aim - o).normalize())
             })
             .collect()
+    }
+
+    /// A shape's [`Roots`] give what its `intersect_into` gives ray by ray,
+    /// to the bit: the same roots kept against the same limits, and the
+    /// same hit at each. Each ray is asked in a run of 4 and of 8 (the
+    /// four-lane route), in each of the four lanes, and at the end of
+    /// runs of 1, 5 and 7 (the scalar tail), with limits that are
+    /// infinite, shrunk below some roots, or NaN, and from `t_min` 0 and
+    /// below. Returns how many (ray, run) pairs were kept.
+    pub fn check_roots_agree(shape: &dyn Shape, rays: &[Ray]) -> usize {
+        let roots = shape.roots().expect("a shape with roots");
+        let mut kept = 0;
+        let mut rnd = numbers(0x7007);
+        let runs = [1, 4, 5, 7, 8]
+            .into_iter()
+            .flat_map(|len| (0..rays.len()).map(move |start| (start, len)));
+        for (start, len) in runs {
+            let run = &rays[start..(start + len).min(rays.len())];
+            for t_min in [0.0, -3.0] {
+                let limits: Vec<f64> = run
+                    .iter()
+                    .map(|_| match (rnd() * 4.0) as i32 {
+                        0 => f64::NAN,
+                        1 => 1.0 + 20.0 * rnd().abs(),
+                        _ => f64::INFINITY,
+                    })
+                    .collect();
+                let mut best = limits.clone();
+                let mut won = vec![false; run.len()];
+                roots.nearest_roots(run, t_min, &mut best, &mut won);
+                for (i, ray) in run.iter().enumerate() {
+                    let mut want = Hit::default();
+                    let hit = shape.intersect_into(ray, t_min, limits[i], &mut want);
+                    assert_eq!(won[i], hit, "ray {ray:?} from {t_min} below {}", limits[i]);
+                    if hit {
+                        assert_eq!(best[i].to_bits(), want.t.to_bits());
+                        let mut got = Hit::default();
+                        roots.hit_at_root(ray, best[i], &mut got);
+                        assert_eq!(format!("{got:?}"), format!("{want:?}"));
+                        kept += 1;
+                    } else {
+                        assert_eq!(best[i].to_bits(), limits[i].to_bits());
+                    }
+                }
+            }
+        }
+        kept
+    }
+
+    /// Rays that test the edges of a root finder: from inside and on the
+    /// surface of the unit sphere about `c`, through its centre, grazing
+    /// it, pointing nowhere (a zero direction), not unit, and with NaN or
+    /// infinite coordinates.
+    pub fn awkward_rays(c: DVec3) -> Vec<Ray> {
+        let mut rays = vec![
+            Ray::new(c, DVec3::X),
+            Ray::new(c + DVec3::Y, DVec3::Y),
+            Ray::new(c + DVec3::Y, -DVec3::Y),
+            Ray::new(c + DVec3::new(-5.0, 1.0, 0.0), DVec3::X),
+            Ray::new(c + DVec3::new(-5.0, 0.0, 0.0), DVec3::ZERO),
+            Ray::new(c + DVec3::new(-5.0, 0.0, 0.0), DVec3::new(3.0, 0.0, 0.0)),
+            Ray::new(c + DVec3::new(0.0, 5.0, 0.0), DVec3::new(0.0, -1e-300, 0.0)),
+            Ray::new(
+                c + DVec3::new(-5.0, 0.0, 0.0),
+                DVec3::new(f64::NAN, 0.0, 0.0),
+            ),
+            Ray::new(DVec3::new(f64::INFINITY, 0.0, 0.0), -DVec3::X),
+            Ray::new(
+                c + DVec3::new(0.0, 0.0, 2.0),
+                DVec3::new(0.0, 0.0, f64::INFINITY),
+            ),
+            Ray::new(c - DVec3::Z * 3.0, DVec3::new(0.0, -0.0, 1.0)),
+        ];
+        rays.extend(rays_towards(c, 1.5, 400, 0x5eed));
+        rays
     }
 
     /// Every nearest hit lies in the shape's box; returns how many rays hit.

@@ -92,7 +92,96 @@ impl Plane {
     }
 }
 
+impl super::Roots for Plane {
+    fn nearest_roots(&self, rays: &[Ray], t_min: f64, best: &mut [f64], won: &mut [bool]) {
+        let mut done = 0;
+        #[cfg(target_arch = "x86_64")]
+        if super::lanes::available() {
+            // SAFETY: the CPU has AVX.
+            done = unsafe { self.nearest_roots_avx(rays, t_min, best, won) };
+        }
+        self.nearest_roots_scalar(&rays[done..], t_min, &mut best[done..], &mut won[done..]);
+    }
+
+    fn hit_at_root(&self, ray: &Ray, t: f64, hit: &mut Hit) {
+        *hit = self.hit_at(ray, t);
+    }
+}
+
+impl Plane {
+    /// [`super::Roots::nearest_roots`] one ray after another.
+    fn nearest_roots_scalar(&self, rays: &[Ray], t_min: f64, best: &mut [f64], won: &mut [bool]) {
+        for ((ray, b), w) in rays.iter().zip(best).zip(won) {
+            if let Some(t) = self.root_in(ray, t_min, *b) {
+                *b = t;
+                *w = true;
+            }
+        }
+    }
+
+    /// [`Plane::nearest_roots_scalar`] four rays at a time, for as many
+    /// whole fours as `rays` holds (their count is returned): the steps of
+    /// [`Plane::root_in`] in the same order and rounding, its early
+    /// returns as lane masks, so every lane has the scalar bits.
+    ///
+    /// # Safety
+    /// The CPU must support AVX.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx")]
+    unsafe fn nearest_roots_avx(
+        &self,
+        rays: &[Ray],
+        t_min: f64,
+        best: &mut [f64],
+        won: &mut [bool],
+    ) -> usize {
+        use std::arch::x86_64::*;
+        let n = [self.normal.x, self.normal.y, self.normal.z].map(|v| _mm256_set1_pd(v));
+        let zero = _mm256_setzero_pd();
+        let lo = _mm256_set1_pd(t_min);
+        let mut done = 0;
+        for ((four, best), won) in rays
+            .chunks_exact(4)
+            .zip(best.chunks_exact_mut(4))
+            .zip(won.chunks_exact_mut(4))
+        {
+            let r = super::lanes::Rays::load(four);
+            let denom = super::lanes::dot(n, [r.dx, r.dy, r.dz]);
+            let num = _mm256_sub_pd(
+                _mm256_set1_pd(self.offset),
+                super::lanes::dot(n, [r.ox, r.oy, r.oz]),
+            );
+            // Behind the origin for sure (signs apart), with t_min ≥ 0.
+            let lt = |x, y| _mm256_cmp_pd::<_CMP_LT_OQ>(x, y);
+            let apart = _mm256_or_pd(
+                _mm256_and_pd(lt(num, zero), lt(zero, denom)),
+                _mm256_and_pd(lt(zero, num), lt(denom, zero)),
+            );
+            let behind = if t_min >= 0.0 { apart } else { zero };
+            let t = _mm256_div_pd(num, denom);
+            // SAFETY: `best` holds four f64 (unaligned loads and stores).
+            let limit = unsafe { _mm256_loadu_pd(best.as_ptr()) };
+            let keep = _mm256_andnot_pd(
+                _mm256_or_pd(behind, _mm256_cmp_pd::<_CMP_EQ_OQ>(denom, zero)),
+                _mm256_and_pd(lt(lo, t), lt(t, limit)),
+            );
+            // SAFETY: as above.
+            unsafe { _mm256_storeu_pd(best.as_mut_ptr(), _mm256_blendv_pd(limit, t, keep)) };
+            let kept = _mm256_movemask_pd(keep);
+            for (i, w) in won.iter_mut().enumerate() {
+                *w |= kept & (1 << i) != 0;
+            }
+            done += 4;
+        }
+        done
+    }
+}
+
 impl Shape for Plane {
+    fn roots(&self) -> Option<&dyn super::Roots> {
+        Some(self)
+    }
+
     fn intersect(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<Hit> {
         let t = self.root_in(ray, t_min, t_max)?;
         Some(self.hit_at(ray, t))
@@ -174,6 +263,31 @@ impl Shape for Plane {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::shapes::testing;
+
+    /// The rays of a pixel meet a plane four at a time (with AVX) or one
+    /// after another, and both give each ray what `intersect_into` gives:
+    /// from above and below, along it, and tilted.
+    #[test]
+    fn roots_of_many_rays_are_each_rays_own() {
+        for (n, d) in [
+            (DVec3::Y, 0.0),
+            (DVec3::new(1.0, 1.0, 0.0), 2f64.sqrt()),
+            (-DVec3::Z, 0.5),
+        ] {
+            let p = Plane::new(n, d, 2);
+            let mut rays = testing::awkward_rays(DVec3::new(0.2, 0.1, -0.3));
+            rays.push(Ray::new(DVec3::new(0.0, d, 0.0), DVec3::X));
+            let kept = testing::check_roots_agree(&p, &rays);
+            assert!(kept > 300, "{kept}");
+            let (mut best, mut won) = (vec![f64::INFINITY; rays.len()], vec![false; rays.len()]);
+            p.nearest_roots_scalar(&rays, 0.0, &mut best, &mut won);
+            for (i, ray) in rays.iter().enumerate() {
+                let want = p.root_in(ray, 0.0, f64::INFINITY);
+                assert_eq!(want.map(f64::to_bits), won[i].then(|| best[i].to_bits()));
+            }
+        }
+    }
 
     /// A box is clear of the half-space when it stands on or in front of
     /// the plane: touching a floor counts, dipping into it by a hair does

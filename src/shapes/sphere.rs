@@ -75,6 +75,97 @@ impl Sphere {
         (t > t_min && t < t_max).then_some(t)
     }
 
+    /// [`super::Roots::nearest_roots`] one ray after another.
+    fn nearest_roots_scalar(&self, rays: &[Ray], t_min: f64, best: &mut [f64], won: &mut [bool]) {
+        for ((ray, b), w) in rays.iter().zip(best).zip(won) {
+            if let Some(t) = self.nearest_root(ray, t_min, *b) {
+                *b = t;
+                *w = true;
+            }
+        }
+    }
+
+    /// [`Sphere::nearest_roots_scalar`] four rays at a time, for as many
+    /// whole fours as `rays` holds (their count is returned): the steps of
+    /// [`Sphere::roots`] and [`Sphere::nearest_root`] in the same order, each
+    /// rounded as the scalar one is (no fused multiply-adds; division and
+    /// square root are correctly rounded either way), and its early
+    /// returns as lane masks, so every lane comes out with the scalar
+    /// bits. A pixel's camera rays meet each sphere its beam holds here:
+    /// the four divisions and the square root of four rays overlap.
+    ///
+    /// # Safety
+    /// The CPU must support AVX.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx")]
+    unsafe fn nearest_roots_avx(
+        &self,
+        rays: &[Ray],
+        t_min: f64,
+        best: &mut [f64],
+        won: &mut [bool],
+    ) -> usize {
+        use std::arch::x86_64::*;
+        let c = self.centre;
+        let r2 = _mm256_set1_pd(self.radius * self.radius);
+        let zero = _mm256_setzero_pd();
+        let lo = _mm256_set1_pd(t_min);
+        let mut done = 0;
+        for ((four, best), won) in rays
+            .chunks_exact(4)
+            .zip(best.chunks_exact_mut(4))
+            .zip(won.chunks_exact_mut(4))
+        {
+            let r = super::lanes::Rays::load(four);
+            let sub = |v: __m256d, k: f64| _mm256_sub_pd(v, _mm256_set1_pd(k));
+            let (fx, fy, fz) = (sub(r.ox, c.x), sub(r.oy, c.y), sub(r.oz, c.z));
+            let (dx, dy, dz) = (r.dx, r.dy, r.dz);
+            let dot = super::lanes::dot;
+            let a = dot([dx, dy, dz], [dx, dy, dz]);
+            // −(f·d): the sign bit flipped, as the scalar negation does.
+            let b = _mm256_xor_pd(dot([fx, fy, fz], [dx, dy, dz]), _mm256_set1_pd(-0.0));
+            let k = _mm256_div_pd(b, a);
+            let l = |f: __m256d, d: __m256d| _mm256_add_pd(f, _mm256_mul_pd(k, d));
+            let (lx, ly, lz) = (l(fx, dx), l(fy, dy), l(fz, dz));
+            let discr = _mm256_mul_pd(a, _mm256_sub_pd(r2, dot([lx, ly, lz], [lx, ly, lz])));
+            let cc = _mm256_sub_pd(dot([fx, fy, fz], [fx, fy, fz]), r2);
+            // b.signum(): ±1 with b's sign (a NaN b makes q NaN either way).
+            let sign = _mm256_or_pd(_mm256_and_pd(b, _mm256_set1_pd(-0.0)), _mm256_set1_pd(1.0));
+            let q = _mm256_add_pd(b, _mm256_mul_pd(sign, _mm256_sqrt_pd(discr)));
+            let (t0, t1) = (_mm256_div_pd(cc, q), _mm256_div_pd(q, a));
+            let in_order = _mm256_cmp_pd::<_CMP_LE_OQ>(t0, t1);
+            let near = _mm256_blendv_pd(t1, t0, in_order);
+            let far = _mm256_blendv_pd(t0, t1, in_order);
+            // q = 0: the line touches at its origin, both roots 0.
+            let touch = _mm256_cmp_pd::<_CMP_EQ_OQ>(q, zero);
+            let near = _mm256_blendv_pd(near, zero, touch);
+            let far = _mm256_blendv_pd(far, zero, touch);
+            // No roots where a = 0 or the discriminant is negative or NaN.
+            let real = _mm256_and_pd(
+                _mm256_cmp_pd::<_CMP_NEQ_UQ>(a, zero),
+                _mm256_cmp_pd::<_CMP_GE_OQ>(discr, zero),
+            );
+            let t = _mm256_blendv_pd(far, near, _mm256_cmp_pd::<_CMP_GT_OQ>(near, lo));
+            // SAFETY: `best` holds four f64 (unaligned loads and stores).
+            let limit = unsafe { _mm256_loadu_pd(best.as_ptr()) };
+            let keep = _mm256_and_pd(
+                real,
+                _mm256_and_pd(
+                    _mm256_cmp_pd::<_CMP_GT_OQ>(t, lo),
+                    _mm256_cmp_pd::<_CMP_LT_OQ>(t, limit),
+                ),
+            );
+            // SAFETY: as above.
+            unsafe { _mm256_storeu_pd(best.as_mut_ptr(), _mm256_blendv_pd(limit, t, keep)) };
+            let kept = _mm256_movemask_pd(keep);
+            for (i, w) in won.iter_mut().enumerate() {
+                *w |= kept & (1 << i) != 0;
+            }
+            done += 4;
+        }
+        done
+    }
+
     fn roots(&self, ray: &Ray) -> Option<(f64, f64)> {
         let f = ray.origin - self.centre;
         let a = ray.dir.length_squared();
@@ -110,7 +201,27 @@ pub fn sphere_uv(n: DVec3) -> DVec2 {
     DVec2::new(u.min(1.0 - f64::EPSILON), v)
 }
 
+impl super::Roots for Sphere {
+    fn nearest_roots(&self, rays: &[Ray], t_min: f64, best: &mut [f64], won: &mut [bool]) {
+        let mut done = 0;
+        #[cfg(target_arch = "x86_64")]
+        if super::lanes::available() {
+            // SAFETY: the CPU has AVX.
+            done = unsafe { self.nearest_roots_avx(rays, t_min, best, won) };
+        }
+        self.nearest_roots_scalar(&rays[done..], t_min, &mut best[done..], &mut won[done..]);
+    }
+
+    fn hit_at_root(&self, ray: &Ray, t: f64, hit: &mut Hit) {
+        *hit = self.hit_at(ray, t);
+    }
+}
+
 impl Shape for Sphere {
+    fn roots(&self) -> Option<&dyn super::Roots> {
+        Some(self)
+    }
+
     fn intersect(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<Hit> {
         let t = self.nearest_root(ray, t_min, t_max)?;
         Some(self.hit_at(ray, t))
@@ -176,6 +287,29 @@ mod tests {
         assert!((h.normal - DVec3::Z).length() < 1e-12);
         let inside = Ray::new(DVec3::ZERO, DVec3::X);
         assert!((s.intersect(&inside, 1e-9, f64::INFINITY).unwrap().t - 1.0).abs() < 1e-12);
+    }
+
+    /// The rays of a pixel meet a sphere four at a time (with AVX) or one
+    /// after another, and both give each ray what `intersect_into` gives.
+    #[test]
+    fn roots_of_many_rays_are_each_rays_own() {
+        for (c, r) in [
+            (DVec3::ZERO, 1.0),
+            (DVec3::new(0.3, -0.2, 0.1), 0.7),
+            (DVec3::splat(1e6), 2.0),
+        ] {
+            let s = Sphere::new(c, r, 3);
+            let rays = testing::awkward_rays(c);
+            let kept = testing::check_roots_agree(&s, &rays);
+            assert!(kept > 100, "{kept}");
+            // And the scalar route alone, as machines without AVX take it.
+            let (mut best, mut won) = (vec![f64::INFINITY; rays.len()], vec![false; rays.len()]);
+            s.nearest_roots_scalar(&rays, 0.0, &mut best, &mut won);
+            for (i, ray) in rays.iter().enumerate() {
+                let want = s.nearest_root(ray, 0.0, f64::INFINITY);
+                assert_eq!(want.map(f64::to_bits), won[i].then(|| best[i].to_bits()));
+            }
+        }
     }
 
     #[test]

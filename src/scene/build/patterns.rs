@@ -386,9 +386,9 @@ impl Builder<'_> {
             }
             "checker3d" => {
                 pattern.scale = solid_scale;
-                Kind::Checker3d(Checker3d {
-                    size: number(self, &mut p, "size", &mut ok).unwrap_or(1.0),
-                })
+                Kind::Checker3d(Checker3d::new(
+                    number(self, &mut p, "size", &mut ok).unwrap_or(1.0),
+                ))
             }
             "gradient" => {
                 pattern.scale = solid_scale;

@@ -258,7 +258,7 @@ mod tests {
             Kind::Sectors(sectors(true)),
         ];
         let solid = [
-            Kind::Checker3d(Checker3d { size: 0.7 }),
+            Kind::Checker3d(Checker3d::new(0.7)),
             Kind::Gradient(Gradient {
                 axis: DVec3::new(0.3, 0.2, 0.1),
                 mirror: false,
