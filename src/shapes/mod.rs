@@ -199,6 +199,29 @@ pub(crate) mod lanes {
         }
     }
 
+    /// The four limits of `best` (which holds four), ray i's in lane i.
+    #[target_feature(enable = "avx")]
+    #[inline]
+    pub fn limits(best: &[f64]) -> __m256d {
+        let four = &best[..4];
+        // SAFETY: four f64 (an unaligned load).
+        unsafe { _mm256_loadu_pd(four.as_ptr()) }
+    }
+
+    /// The roots `t` kept where `keep` is set (all bits of a lane): over
+    /// `limit` into `best`, and `won` set; the other lanes keep theirs.
+    #[target_feature(enable = "avx")]
+    #[inline]
+    pub fn keep(best: &mut [f64], won: &mut [bool], limit: __m256d, t: __m256d, keep: __m256d) {
+        let four = &mut best[..4];
+        // SAFETY: four f64 (an unaligned store).
+        unsafe { _mm256_storeu_pd(four.as_mut_ptr(), _mm256_blendv_pd(limit, t, keep)) };
+        let kept = _mm256_movemask_pd(keep);
+        for (i, w) in won[..4].iter_mut().enumerate() {
+            *w |= kept & (1 << i) != 0;
+        }
+    }
+
     /// glam's `dot` lane by lane, in its order: (x·x' + y·y') + z·z'.
     #[target_feature(enable = "avx")]
     #[inline]
@@ -207,6 +230,22 @@ pub(crate) mod lanes {
             _mm256_add_pd(_mm256_mul_pd(a[0], b[0]), _mm256_mul_pd(a[1], b[1])),
             _mm256_mul_pd(a[2], b[2]),
         )
+    }
+}
+
+/// [`Roots::nearest_roots`] one ray after another, `root(ray, limit)`
+/// being the shape's nearest root within (t_min, limit).
+pub(crate) fn nearest_roots_each(
+    rays: &[Ray],
+    best: &mut [f64],
+    won: &mut [bool],
+    root: impl Fn(&Ray, f64) -> Option<f64>,
+) {
+    for ((ray, b), w) in rays.iter().zip(best).zip(won) {
+        if let Some(t) = root(ray, *b) {
+            *b = t;
+            *w = true;
+        }
     }
 }
 

@@ -111,12 +111,9 @@ impl super::Roots for Plane {
 impl Plane {
     /// [`super::Roots::nearest_roots`] one ray after another.
     fn nearest_roots_scalar(&self, rays: &[Ray], t_min: f64, best: &mut [f64], won: &mut [bool]) {
-        for ((ray, b), w) in rays.iter().zip(best).zip(won) {
-            if let Some(t) = self.root_in(ray, t_min, *b) {
-                *b = t;
-                *w = true;
-            }
-        }
+        super::nearest_roots_each(rays, best, won, |ray, limit| {
+            self.root_in(ray, t_min, limit)
+        });
     }
 
     /// [`Plane::nearest_roots_scalar`] four rays at a time, for as many
@@ -159,18 +156,12 @@ impl Plane {
             );
             let behind = if t_min >= 0.0 { apart } else { zero };
             let t = _mm256_div_pd(num, denom);
-            // SAFETY: `best` holds four f64 (unaligned loads and stores).
-            let limit = unsafe { _mm256_loadu_pd(best.as_ptr()) };
+            let limit = super::lanes::limits(best);
             let keep = _mm256_andnot_pd(
                 _mm256_or_pd(behind, _mm256_cmp_pd::<_CMP_EQ_OQ>(denom, zero)),
                 _mm256_and_pd(lt(lo, t), lt(t, limit)),
             );
-            // SAFETY: as above.
-            unsafe { _mm256_storeu_pd(best.as_mut_ptr(), _mm256_blendv_pd(limit, t, keep)) };
-            let kept = _mm256_movemask_pd(keep);
-            for (i, w) in won.iter_mut().enumerate() {
-                *w |= kept & (1 << i) != 0;
-            }
+            super::lanes::keep(best, won, limit, t, keep);
             done += 4;
         }
         done

@@ -77,12 +77,9 @@ impl Sphere {
 
     /// [`super::Roots::nearest_roots`] one ray after another.
     fn nearest_roots_scalar(&self, rays: &[Ray], t_min: f64, best: &mut [f64], won: &mut [bool]) {
-        for ((ray, b), w) in rays.iter().zip(best).zip(won) {
-            if let Some(t) = self.nearest_root(ray, t_min, *b) {
-                *b = t;
-                *w = true;
-            }
-        }
+        super::nearest_roots_each(rays, best, won, |ray, limit| {
+            self.nearest_root(ray, t_min, limit)
+        });
     }
 
     /// [`Sphere::nearest_roots_scalar`] four rays at a time, for as many
@@ -146,8 +143,7 @@ impl Sphere {
                 _mm256_cmp_pd::<_CMP_GE_OQ>(discr, zero),
             );
             let t = _mm256_blendv_pd(far, near, _mm256_cmp_pd::<_CMP_GT_OQ>(near, lo));
-            // SAFETY: `best` holds four f64 (unaligned loads and stores).
-            let limit = unsafe { _mm256_loadu_pd(best.as_ptr()) };
+            let limit = super::lanes::limits(best);
             let keep = _mm256_and_pd(
                 real,
                 _mm256_and_pd(
@@ -155,12 +151,7 @@ impl Sphere {
                     _mm256_cmp_pd::<_CMP_LT_OQ>(t, limit),
                 ),
             );
-            // SAFETY: as above.
-            unsafe { _mm256_storeu_pd(best.as_mut_ptr(), _mm256_blendv_pd(limit, t, keep)) };
-            let kept = _mm256_movemask_pd(keep);
-            for (i, w) in won.iter_mut().enumerate() {
-                *w |= kept & (1 << i) != 0;
-            }
+            super::lanes::keep(best, won, limit, t, keep);
             done += 4;
         }
         done
