@@ -424,7 +424,6 @@ pub struct FirstHits {
     best: Vec<f64>,
     won: Vec<bool>,
     by: Vec<Option<usize>>,
-    written: Vec<bool>,
 }
 
 /// The objects of a [`World`] that may block the rays inside one
@@ -583,17 +582,13 @@ impl World {
     ) {
         let n = rays.len();
         debug_assert!(hits.len() == n);
-        let fill = |v: &mut Vec<_>, x| {
-            v.clear();
-            v.resize(n, x);
-        };
-        fill(&mut s.best, f64::INFINITY);
-        // Per ray, which candidate holds its nearest hit so far, and
-        // whether that hit is written yet.
+        s.best.clear();
+        s.best.resize(n, f64::INFINITY);
+        // Per ray, which candidate holds its nearest hit so far. A hit
+        // from a shape without roots is written as it is found; one with
+        // roots waits for the end.
         s.by.clear();
         s.by.resize(n, None);
-        s.written.clear();
-        s.written.resize(n, false);
         for (k, &id) in candidates.ids[..candidates.len].iter().enumerate() {
             let o = self.object(id);
             match o.roots() {
@@ -601,9 +596,8 @@ impl World {
                     s.won.clear();
                     s.won.resize(n, false);
                     r.nearest_roots(rays, 0.0, &mut s.best, &mut s.won);
-                    for (i, _) in s.won.iter().enumerate().filter(|(_, w)| **w) {
-                        s.by[i] = Some(k);
-                        s.written[i] = false;
+                    for (by, _) in s.by.iter_mut().zip(&s.won).filter(|(_, w)| **w) {
+                        *by = Some(k);
                     }
                 }
                 None => {
@@ -611,7 +605,6 @@ impl World {
                         if o.intersect_into(ray, 0.0, s.best[i], hit) {
                             s.best[i] = hit.t;
                             s.by[i] = Some(k);
-                            s.written[i] = true;
                         }
                     }
                 }
@@ -620,9 +613,7 @@ impl World {
         objects.clear();
         for (i, (ray, hit)) in rays.iter().zip(hits.iter_mut()).enumerate() {
             let object = s.by[i].map(|k| self.object(candidates.ids[k]));
-            if let (Some(o), false) = (object, s.written[i])
-                && let Some(r) = o.roots()
-            {
+            if let Some(r) = object.and_then(|o| o.roots()) {
                 r.hit_at_root(ray, s.best[i], hit);
             }
             objects.push(object);

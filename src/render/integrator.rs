@@ -20,7 +20,7 @@ use super::light::{self, LightSample, area, environment};
 use super::material::{dielectric, emissive, glossy, matte, mirror, phong};
 use super::sampler::SampleStream;
 use super::stats::RayCounts;
-use crate::accel::{Blockers, FirstHits, Shaft, World};
+use crate::accel::{Blockers, Shaft, World};
 use crate::geometry::Aabb;
 use crate::geometry::rounding::SHADOW_EPSILON;
 use crate::geometry::{
@@ -112,7 +112,7 @@ impl<'a> Integrator<'a> {
 
     /// The objects traced against: the pixel renderer asks it for the
     /// few a pixel's beam meets.
-    pub fn world(&self) -> &World {
+    pub fn world(&self) -> &'a World {
         self.world
     }
 
@@ -139,19 +139,6 @@ impl<'a> Integrator<'a> {
             Some(c) => self.world.nearest_among(c, ray, 0.0, f64::INFINITY, hit),
             None => self.world.nearest_into(ray, 0.0, f64::INFINITY, hit),
         }
-    }
-
-    /// [`Integrator::first_hit`] of every camera ray of a pixel, among the
-    /// objects its beam meets (`objects[i]` is ray i's, `None` on a miss).
-    pub fn first_hits(
-        &self,
-        among: &Blockers,
-        rays: &[Ray],
-        hits: &mut [Hit],
-        objects: &mut Vec<Option<&'a dyn Shape>>,
-        scratch: &mut FirstHits,
-    ) {
-        self.world.first_hits(among, rays, hits, objects, scratch);
     }
 
     /// The colour a camera ray brings from the first hit

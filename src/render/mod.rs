@@ -266,7 +266,7 @@ impl<'a> PixelRenderer<'a> {
             scratch.hits.resize(n, Hit::default());
             scratch.objects.clear();
             match &among {
-                Some(objects) => self.integrator.first_hits(
+                Some(objects) => self.integrator.world().first_hits(
                     objects,
                     &scratch.rays,
                     &mut scratch.hits,

@@ -179,9 +179,8 @@ pub(crate) mod lanes {
 
     impl Rays {
         /// The first four of `rays` (which holds four), ray i in lane i.
-        ///
-        /// # Safety
-        /// The CPU must support AVX.
+        /// Callable only where AVX is enabled (the shapes' four-lane
+        /// routes).
         #[target_feature(enable = "avx")]
         #[inline]
         pub fn load(rays: &[Ray]) -> Rays {
