@@ -2,6 +2,8 @@
 //! and affine transforms. Everything is `f64` (glam's `DVec3`).
 
 mod aabb;
+#[cfg(target_arch = "x86_64")]
+pub(crate) mod lanes;
 mod ray;
 pub mod rounding;
 mod transform;

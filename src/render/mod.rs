@@ -217,13 +217,8 @@ impl<'a> PixelRenderer<'a> {
         // Every camera ray first, then every path: the rays are independent
         // of each other, so their square roots and divisions overlap in the
         // pipeline instead of each waiting at the head of its own path.
-        scratch.rays.clear();
-        scratch
-            .rays
-            .extend(scratch.spots.iter().enumerate().map(|(s, &(dx, dy))| {
-                let q = scratch.lens.get(s).copied().unwrap_or((0.5, 0.5));
-                self.camera.ray(pixel.x as f64 + dx, pixel.y as f64 + dy, q)
-            }));
+        self.camera
+            .rays_into(pixel, &scratch.spots, &scratch.lens, &mut scratch.rays);
         let key = PixelKey::new(pixel, sampler.seed);
         let mut sum = Colour::ZERO;
         fn path(key: PixelKey, s: usize, counts: &mut stats::RayCounts) -> Path<'_> {

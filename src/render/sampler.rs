@@ -400,42 +400,110 @@ pub fn concentric_disc((a, b): (f64, f64)) -> (f64, f64) {
     }
 }
 
+/// The minimax coefficients of [`sin_cos_octant`]'s odd (sine) and even
+/// (cosine) tails.
+// The coefficients are written as fdlibm publishes them, digits beyond
+// f64's included, so that they can be checked against the source.
+#[allow(clippy::excessive_precision)]
+const SIN_TAIL: [f64; 6] = [
+    -1.666_666_666_666_663_243_48e-1,
+    8.333_333_333_322_489_461_24e-3,
+    -1.984_126_982_985_794_931_34e-4,
+    2.755_731_370_707_006_767_89e-6,
+    -2.505_076_025_340_686_341_95e-8,
+    1.589_690_995_211_550_102_21e-10,
+];
+#[allow(clippy::excessive_precision)]
+const COS_TAIL: [f64; 6] = [
+    4.166_666_666_666_660_190_37e-2,
+    -1.388_888_888_887_410_957_49e-3,
+    2.480_158_728_947_672_941_78e-5,
+    -2.755_731_435_139_066_330_35e-7,
+    2.087_572_321_298_174_827_90e-9,
+    -1.135_964_755_778_819_482_65e-11,
+];
+
 /// (sin θ, cos θ) for |θ| ≤ π/4, within an ulp or so: the minimax
 /// polynomials of fdlibm's `__kernel_sin` and `__kernel_cos` (FreeBSD's
 /// k_sin.c and k_cos.c), which need no range reduction on this interval.
 /// Every lens sample of a depth-of-field picture comes through here, and
 /// libm's general `sincos` (reduction, quadrant tests) took a tenth of
 /// such a render.
-// The coefficients are written as fdlibm publishes them, digits beyond
-// f64's included, so that they can be checked against the source.
-#[allow(clippy::excessive_precision)]
 #[inline]
 fn sin_cos_octant(t: f64) -> (f64, f64) {
-    const S: [f64; 6] = [
-        -1.666_666_666_666_663_243_48e-1,
-        8.333_333_333_322_489_461_24e-3,
-        -1.984_126_982_985_794_931_34e-4,
-        2.755_731_370_707_006_767_89e-6,
-        -2.505_076_025_340_686_341_95e-8,
-        1.589_690_995_211_550_102_21e-10,
-    ];
-    const C: [f64; 6] = [
-        4.166_666_666_666_660_190_37e-2,
-        -1.388_888_888_887_410_957_49e-3,
-        2.480_158_728_947_672_941_78e-5,
-        -2.755_731_435_139_066_330_35e-7,
-        2.087_572_321_298_174_827_90e-9,
-        -1.135_964_755_778_819_482_65e-11,
-    ];
     let z = t * t;
-    let rs = S[1] + z * (S[2] + z * (S[3] + z * (S[4] + z * S[5])));
-    let sin = t + (z * t) * (S[0] + z * rs);
-    let rc = z * (C[0] + z * (C[1] + z * (C[2] + z * (C[3] + z * (C[4] + z * C[5])))));
+    let (s, c) = (SIN_TAIL, COS_TAIL);
+    let rs = s[1] + z * (s[2] + z * (s[3] + z * (s[4] + z * s[5])));
+    let sin = t + (z * t) * (s[0] + z * rs);
+    let rc = z * (c[0] + z * (c[1] + z * (c[2] + z * (c[3] + z * (c[4] + z * c[5])))));
     // 1 − z/2 rounded, then what that rounding lost, then the tail.
     let hz = 0.5 * z;
     let w = 1.0 - hz;
     let cos = w + (((1.0 - w) - hz) + z * rc);
     (sin, cos)
+}
+
+/// [`concentric_disc`] of four squares' points (a lane each): the two
+/// wedges' branches become a blend, the same operations in the same order
+/// (so each lane has the scalar map's bits).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx")]
+#[inline]
+pub(crate) fn concentric_disc4(
+    a: std::arch::x86_64::__m256d,
+    b: std::arch::x86_64::__m256d,
+) -> [std::arch::x86_64::__m256d; 2] {
+    use std::arch::x86_64::*;
+    let (two, one) = (_mm256_set1_pd(2.0), _mm256_set1_pd(1.0));
+    let x = _mm256_sub_pd(_mm256_mul_pd(two, a), one);
+    let y = _mm256_sub_pd(_mm256_mul_pd(two, b), one);
+    let abs = |v| _mm256_andnot_pd(_mm256_set1_pd(-0.0), v);
+    let about_x = _mm256_cmp_pd::<_CMP_GT_OQ>(abs(x), abs(y));
+    // About x: θ = π/4·(y/x), the point x·(cos θ, sin θ); about y:
+    // θ = π/4·(x/y), the point y·(sin θ, cos θ).
+    let (num, den) = (
+        _mm256_blendv_pd(x, y, about_x),
+        _mm256_blendv_pd(y, x, about_x),
+    );
+    let t = _mm256_mul_pd(
+        _mm256_set1_pd(std::f64::consts::FRAC_PI_4),
+        _mm256_div_pd(num, den),
+    );
+    let [s, c] = sin_cos_octant4(t);
+    let centre = _mm256_and_pd(
+        _mm256_cmp_pd::<_CMP_EQ_OQ>(x, _mm256_setzero_pd()),
+        _mm256_cmp_pd::<_CMP_EQ_OQ>(y, _mm256_setzero_pd()),
+    );
+    let (fx, fy) = (
+        _mm256_blendv_pd(s, c, about_x),
+        _mm256_blendv_pd(c, s, about_x),
+    );
+    // The centre is (0, 0) (its θ is 0/0).
+    [fx, fy].map(|f| _mm256_andnot_pd(centre, _mm256_mul_pd(den, f)))
+}
+
+/// [`sin_cos_octant`] lane by lane, in its order.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx")]
+#[inline]
+fn sin_cos_octant4(t: std::arch::x86_64::__m256d) -> [std::arch::x86_64::__m256d; 2] {
+    use std::arch::x86_64::*;
+    let (add, sub, mul, k) = (_mm256_add_pd, _mm256_sub_pd, _mm256_mul_pd, _mm256_set1_pd);
+    // z·(c + z·(… )) from the last coefficient in, as the scalar Horner.
+    let horner = |z, cs: &[f64]| {
+        let (last, rest) = cs.split_last().expect("coefficients");
+        rest.iter()
+            .rev()
+            .fold(k(*last), |acc, &c| add(k(c), mul(z, acc)))
+    };
+    let z = mul(t, t);
+    let rs = horner(z, &SIN_TAIL[1..]);
+    let sin = add(t, mul(mul(z, t), add(k(SIN_TAIL[0]), mul(z, rs))));
+    let rc = mul(z, horner(z, &COS_TAIL));
+    let hz = mul(k(0.5), z);
+    let w = sub(k(1.0), hz);
+    let cos = add(w, add(sub(sub(k(1.0), w), hz), mul(z, rc)));
+    [sin, cos]
 }
 
 /// Square → direction about +z with density ∝ cos^e θ: φ = 2πa,

@@ -157,6 +157,51 @@ impl PixelRays {
         let start = self.origin + q.0 * self.right + q.1 * self.up;
         Ray::new(start, (sharp - start).normalize())
     }
+
+    /// [`PixelRays::ray_at`] (`lens` None) or [`PixelRays::lens_ray_at`]
+    /// (`lens` the points q and the focus) for four image points, a lane
+    /// each, with their operations in their order: each lane has the
+    /// scalar ray's bits.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx")]
+    #[inline]
+    pub(crate) fn rays_at4(
+        &self,
+        x: std::arch::x86_64::__m256d,
+        y: std::arch::x86_64::__m256d,
+        lens: Option<([std::arch::x86_64::__m256d; 2], f64)>,
+    ) -> crate::geometry::lanes::Rays {
+        use std::arch::x86_64::*;
+        let (add, sub, mul, k) = (_mm256_add_pd, _mm256_sub_pd, _mm256_mul_pd, _mm256_set1_pd);
+        let lanes = |v: DVec3| v.to_array().map(|c| k(c));
+        let (eye, corner) = (lanes(self.origin), lanes(self.corner));
+        let (step_right, step_down) = (lanes(self.step_right), lanes(self.step_down));
+        let p: [__m256d; 3] = std::array::from_fn(|i| {
+            add(add(corner[i], mul(x, step_right[i])), mul(y, step_down[i]))
+        });
+        let (start, d) = match lens {
+            None => (eye, std::array::from_fn(|i| sub(p[i], eye[i]))),
+            Some(([qx, qy], focus)) => {
+                let f = k(focus / self.distance);
+                let (right, up) = (lanes(self.right), lanes(self.up));
+                let start: [__m256d; 3] =
+                    std::array::from_fn(|i| add(add(eye[i], mul(qx, right[i])), mul(qy, up[i])));
+                let sharp: [__m256d; 3] =
+                    std::array::from_fn(|i| add(eye[i], mul(sub(p[i], eye[i]), f)));
+                (start, std::array::from_fn(|i| sub(sharp[i], start[i])))
+            }
+        };
+        // glam's normalize: d · (1 / √((x² + y²) + z²)).
+        let r = _mm256_div_pd(k(1.0), _mm256_sqrt_pd(crate::geometry::lanes::dot(d, d)));
+        crate::geometry::lanes::Rays {
+            ox: start[0],
+            oy: start[1],
+            oz: start[2],
+            dx: mul(d[0], r),
+            dy: mul(d[1], r),
+            dz: mul(d[2], r),
+        }
+    }
 }
 
 #[cfg(test)]

@@ -96,7 +96,7 @@ impl super::Roots for Plane {
     fn nearest_roots(&self, rays: &[Ray], t_min: f64, best: &mut [f64], won: &mut [bool]) {
         let mut done = 0;
         #[cfg(target_arch = "x86_64")]
-        if super::lanes::available() {
+        if crate::geometry::lanes::available() {
             // SAFETY: the CPU has AVX.
             done = unsafe { self.nearest_roots_avx(rays, t_min, best, won) };
         }
@@ -142,11 +142,11 @@ impl Plane {
             .zip(best.chunks_exact_mut(4))
             .zip(won.chunks_exact_mut(4))
         {
-            let r = super::lanes::Rays::load(four);
-            let denom = super::lanes::dot(n, [r.dx, r.dy, r.dz]);
+            let r = crate::geometry::lanes::Rays::load(four);
+            let denom = crate::geometry::lanes::dot(n, [r.dx, r.dy, r.dz]);
             let num = _mm256_sub_pd(
                 _mm256_set1_pd(self.offset),
-                super::lanes::dot(n, [r.ox, r.oy, r.oz]),
+                crate::geometry::lanes::dot(n, [r.ox, r.oy, r.oz]),
             );
             // Behind the origin for sure (signs apart), with t_min ≥ 0.
             let lt = |x, y| _mm256_cmp_pd::<_CMP_LT_OQ>(x, y);
@@ -156,12 +156,12 @@ impl Plane {
             );
             let behind = if t_min >= 0.0 { apart } else { zero };
             let t = _mm256_div_pd(num, denom);
-            let limit = super::lanes::limits(best);
+            let limit = crate::geometry::lanes::limits(best);
             let keep = _mm256_andnot_pd(
                 _mm256_or_pd(behind, _mm256_cmp_pd::<_CMP_EQ_OQ>(denom, zero)),
                 _mm256_and_pd(lt(lo, t), lt(t, limit)),
             );
-            super::lanes::keep(best, won, limit, t, keep);
+            crate::geometry::lanes::keep(best, won, limit, t, keep);
             done += 4;
         }
         done

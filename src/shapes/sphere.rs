@@ -113,11 +113,11 @@ impl Sphere {
             .zip(best.chunks_exact_mut(4))
             .zip(won.chunks_exact_mut(4))
         {
-            let r = super::lanes::Rays::load(four);
+            let r = crate::geometry::lanes::Rays::load(four);
             let sub = |v: __m256d, k: f64| _mm256_sub_pd(v, _mm256_set1_pd(k));
             let (fx, fy, fz) = (sub(r.ox, c.x), sub(r.oy, c.y), sub(r.oz, c.z));
             let (dx, dy, dz) = (r.dx, r.dy, r.dz);
-            let dot = super::lanes::dot;
+            let dot = crate::geometry::lanes::dot;
             let a = dot([dx, dy, dz], [dx, dy, dz]);
             // −(f·d): the sign bit flipped, as the scalar negation does.
             let b = _mm256_xor_pd(dot([fx, fy, fz], [dx, dy, dz]), _mm256_set1_pd(-0.0));
@@ -143,7 +143,7 @@ impl Sphere {
                 _mm256_cmp_pd::<_CMP_GE_OQ>(discr, zero),
             );
             let t = _mm256_blendv_pd(far, near, _mm256_cmp_pd::<_CMP_GT_OQ>(near, lo));
-            let limit = super::lanes::limits(best);
+            let limit = crate::geometry::lanes::limits(best);
             let keep = _mm256_and_pd(
                 real,
                 _mm256_and_pd(
@@ -151,7 +151,7 @@ impl Sphere {
                     _mm256_cmp_pd::<_CMP_LT_OQ>(t, limit),
                 ),
             );
-            super::lanes::keep(best, won, limit, t, keep);
+            crate::geometry::lanes::keep(best, won, limit, t, keep);
             done += 4;
         }
         done
@@ -196,7 +196,7 @@ impl super::Roots for Sphere {
     fn nearest_roots(&self, rays: &[Ray], t_min: f64, best: &mut [f64], won: &mut [bool]) {
         let mut done = 0;
         #[cfg(target_arch = "x86_64")]
-        if super::lanes::available() {
+        if crate::geometry::lanes::available() {
             // SAFETY: the CPU has AVX.
             done = unsafe { self.nearest_roots_avx(rays, t_min, best, won) };
         }
