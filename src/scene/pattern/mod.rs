@@ -123,14 +123,15 @@ impl Pattern {
             Kind::Marble(m) => m.value(self.solid_point(p), self.turbulence),
             Kind::Wood(w) => w.value(self.solid_point(p), self.turbulence),
             kind => {
-                let q = warp(self.solid_point(p), self.turbulence);
-                match kind {
-                    Kind::Checker3d(c) => c.value(q),
-                    Kind::Gradient(g) => g.value(q),
-                    Kind::Noise(n) => n.value(q),
-                    Kind::Granite(g) => g.value(q),
-                    Kind::Sectors(s) => s.value_solid(q),
-                    _ => unreachable!("handled above"),
+                // Two inlined lookups, not one of a point that is either:
+                // the point then went through memory, stored in two parts
+                // and read back across them (a stalled store-to-load
+                // forward, a third of a checkered floor's lookup).
+                let q = self.solid_point(p);
+                if self.turbulence == 0.0 {
+                    solid_value(kind, q)
+                } else {
+                    solid_value(kind, warp(q, self.turbulence))
                 }
             }
         };
@@ -157,6 +158,20 @@ impl Pattern {
             }
             None => uv,
         }
+    }
+}
+
+/// The value of a solid pattern (one that reads the point, not (u, v))
+/// at pattern-space point `q`.
+#[inline(always)]
+fn solid_value(kind: &Kind, q: DVec3) -> f64 {
+    match kind {
+        Kind::Checker3d(c) => c.value(q),
+        Kind::Gradient(g) => g.value(q),
+        Kind::Noise(n) => n.value(q),
+        Kind::Granite(g) => g.value(q),
+        Kind::Sectors(s) => s.value_solid(q),
+        _ => unreachable!("surface patterns, marble and wood are looked up apart"),
     }
 }
 
