@@ -130,11 +130,8 @@ mod tests {
     use super::*;
     use crate::geometry::DVec3;
 
-    #[test]
-    fn every_ray_of_a_pixel_belongs_to_the_family_its_camera_gives() {
-        // Each ray starts on the lens's square and passes through the
-        // pixel's rectangle at the family's depth: what the beam bounds.
-        let mut rnd = crate::accel::beam::tests::rng(0x2468_ace1);
+    /// A camera with a lens looking askew, and the same camera without it.
+    fn lensed_and_pinhole() -> (Camera, Camera) {
         let lensed = Camera {
             position: DVec3::new(1.0, 2.0, 7.0),
             look_at: DVec3::new(-0.5, 0.3, 0.0),
@@ -148,6 +145,15 @@ mod tests {
             lens: None,
             ..lensed.clone()
         };
+        (lensed, pinhole)
+    }
+
+    #[test]
+    fn every_ray_of_a_pixel_belongs_to_the_family_its_camera_gives() {
+        // Each ray starts on the lens's square and passes through the
+        // pixel's rectangle at the family's depth: what the beam bounds.
+        let mut rnd = crate::accel::beam::tests::rng(0x2468_ace1);
+        let (lensed, pinhole) = lensed_and_pinhole();
         // A view plane at distance 2 (not 1): the rectangle at the focus
         // scales by focus/distance.
         let far_plane = Camera {
@@ -201,19 +207,7 @@ mod tests {
         // and lens points on the disc map's awkward places (the centre,
         // both diagonals, the edges) in every lane.
         let mut rnd = crate::accel::beam::tests::rng(0x1357_9bdf);
-        let lensed = Camera {
-            position: DVec3::new(1.0, 2.0, 7.0),
-            look_at: DVec3::new(-0.5, 0.3, 0.0),
-            lens: Some(ThinLens {
-                aperture: 0.3,
-                focus: 6.0,
-            }),
-            ..Camera::default()
-        };
-        let pinhole = Camera {
-            lens: None,
-            ..lensed.clone()
-        };
+        let (lensed, pinhole) = lensed_and_pinhole();
         let awkward = [
             (0.5, 0.5),
             (0.25, 0.25),

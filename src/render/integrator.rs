@@ -626,7 +626,6 @@ impl<'a> Integrator<'a> {
     }
 }
 
-/// One shading point.
 /// What the lights reaching one shading point add up to.
 struct Lit {
     /// Ambient plus diffuse light, to be multiplied by the surface colour.
@@ -635,6 +634,7 @@ struct Lit {
     highlight: Colour,
 }
 
+/// One shading point.
 struct Shading {
     p: DVec3,
     /// The bound on `p`'s rounding error, per coordinate.
