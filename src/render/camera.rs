@@ -130,8 +130,10 @@ mod tests {
     use super::*;
     use crate::geometry::DVec3;
 
-    /// A camera with a lens looking askew, and the same camera without it.
-    fn lensed_and_pinhole() -> (Camera, Camera) {
+    /// A camera with a lens looking askew and the same without it, each
+    /// also with a view plane at distance 2 (not 1: the rectangle at the
+    /// focus scales by focus/distance).
+    fn askew_cameras() -> [Camera; 4] {
         let lensed = Camera {
             position: DVec3::new(1.0, 2.0, 7.0),
             look_at: DVec3::new(-0.5, 0.3, 0.0),
@@ -141,21 +143,6 @@ mod tests {
             }),
             ..Camera::default()
         };
-        let pinhole = Camera {
-            lens: None,
-            ..lensed.clone()
-        };
-        (lensed, pinhole)
-    }
-
-    #[test]
-    fn every_ray_of_a_pixel_belongs_to_the_family_its_camera_gives() {
-        // Each ray starts on the lens's square and passes through the
-        // pixel's rectangle at the family's depth: what the beam bounds.
-        let mut rnd = crate::accel::beam::tests::rng(0x2468_ace1);
-        let (lensed, pinhole) = lensed_and_pinhole();
-        // A view plane at distance 2 (not 1): the rectangle at the focus
-        // scales by focus/distance.
         let far_plane = Camera {
             projection: crate::scene::Projection::ViewPlane {
                 distance: 2.0,
@@ -164,11 +151,19 @@ mod tests {
             },
             ..lensed.clone()
         };
-        let far_pinhole = Camera {
+        let pinhole = |c: &Camera| Camera {
             lens: None,
-            ..far_plane.clone()
+            ..c.clone()
         };
-        for cam in [lensed, pinhole, far_plane, far_pinhole] {
+        [pinhole(&lensed), pinhole(&far_plane), lensed, far_plane]
+    }
+
+    #[test]
+    fn every_ray_of_a_pixel_belongs_to_the_family_its_camera_gives() {
+        // Each ray starts on the lens's square and passes through the
+        // pixel's rectangle at the family's depth: what the beam bounds.
+        let mut rnd = crate::accel::beam::tests::rng(0x2468_ace1);
+        for cam in askew_cameras() {
             let rays = CameraRays::new(&cam, 40, 30).unwrap();
             for (x, y) in [(0, 0), (39, 29), (17, 5), (3, 22)] {
                 let f = rays.family(Pixel { x, y });
@@ -203,11 +198,10 @@ mod tests {
     fn a_pixels_rays_made_together_are_each_rays_own() {
         // rays_into (four lanes where the CPU has AVX, a scalar tail)
         // against `ray` one sample at a time, to the bit: lensed and
-        // pinhole cameras, every count from 1 to 9 (tails of 0 to 3),
+        // pinhole cameras (view planes at distance 1 and 2), every count from 1 to 9 (tails of 0 to 3),
         // and lens points on the disc map's awkward places (the centre,
         // both diagonals, the edges) in every lane.
         let mut rnd = crate::accel::beam::tests::rng(0x1357_9bdf);
-        let (lensed, pinhole) = lensed_and_pinhole();
         let awkward = [
             (0.5, 0.5),
             (0.25, 0.25),
@@ -218,7 +212,7 @@ mod tests {
             (0.125, 0.875),
             (0.9999999999, 0.5),
         ];
-        for cam in [lensed, pinhole] {
+        for cam in askew_cameras() {
             let rays = CameraRays::new(&cam, 40, 30).unwrap();
             for count in 1..=9 {
                 for round in 0..12 {
