@@ -63,27 +63,37 @@ impl Rays {
     }
 }
 
-/// The four limits of `best` (which holds four), ray i's in lane i.
+/// A shape's nearest roots four rays at a time, for as many whole fours
+/// as `rays` holds (their count is returned): `roots(rays, limits)` gives
+/// each lane's root and, as a lane mask, whether it is kept (within the
+/// shape's range and short of the lane's limit, `best[i]`). A kept root
+/// is written over `best[i]` and sets `won[i]`; the other lanes keep
+/// theirs. The loop every four-lane [`crate::shapes::Roots`] route shares.
 #[target_feature(enable = "avx")]
 #[inline]
-pub fn limits(best: &[f64]) -> __m256d {
-    let four = &best[..4];
-    // SAFETY: four f64 (an unaligned load).
-    unsafe { _mm256_loadu_pd(four.as_ptr()) }
-}
-
-/// The roots `t` kept where `keep` is set (all bits of a lane): over
-/// `limit` into `best`, and `won` set; the other lanes keep theirs.
-#[target_feature(enable = "avx")]
-#[inline]
-pub fn keep(best: &mut [f64], won: &mut [bool], limit: __m256d, t: __m256d, keep: __m256d) {
-    let four = &mut best[..4];
-    // SAFETY: four f64 (an unaligned store).
-    unsafe { _mm256_storeu_pd(four.as_mut_ptr(), _mm256_blendv_pd(limit, t, keep)) };
-    let kept = _mm256_movemask_pd(keep);
-    for (i, w) in won[..4].iter_mut().enumerate() {
-        *w |= kept & (1 << i) != 0;
+pub fn each_four(
+    rays: &[Ray],
+    best: &mut [f64],
+    won: &mut [bool],
+    mut roots: impl FnMut(&Rays, __m256d) -> (__m256d, __m256d),
+) -> usize {
+    let mut done = 0;
+    for ((four, best), won) in rays
+        .chunks_exact(4)
+        .zip(best.chunks_exact_mut(4))
+        .zip(won.chunks_exact_mut(4))
+    {
+        // SAFETY: four f64 each way (unaligned loads and stores).
+        let limit = unsafe { _mm256_loadu_pd(best.as_ptr()) };
+        let (t, keep) = roots(&Rays::load(four), limit);
+        unsafe { _mm256_storeu_pd(best.as_mut_ptr(), _mm256_blendv_pd(limit, t, keep)) };
+        let kept = _mm256_movemask_pd(keep);
+        for (i, w) in won.iter_mut().enumerate() {
+            *w |= kept & (1 << i) != 0;
+        }
+        done += 4;
     }
+    done
 }
 
 /// glam's `dot` lane by lane, in its order: (x·x' + y·y') + z·z'.

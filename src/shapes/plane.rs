@@ -136,13 +136,7 @@ impl Plane {
         let n = [self.normal.x, self.normal.y, self.normal.z].map(|v| _mm256_set1_pd(v));
         let zero = _mm256_setzero_pd();
         let lo = _mm256_set1_pd(t_min);
-        let mut done = 0;
-        for ((four, best), won) in rays
-            .chunks_exact(4)
-            .zip(best.chunks_exact_mut(4))
-            .zip(won.chunks_exact_mut(4))
-        {
-            let r = crate::geometry::lanes::Rays::load(four);
+        crate::geometry::lanes::each_four(rays, best, won, |r, limit| {
             let denom = crate::geometry::lanes::dot(n, [r.dx, r.dy, r.dz]);
             let num = _mm256_sub_pd(
                 _mm256_set1_pd(self.offset),
@@ -156,15 +150,12 @@ impl Plane {
             );
             let behind = if t_min >= 0.0 { apart } else { zero };
             let t = _mm256_div_pd(num, denom);
-            let limit = crate::geometry::lanes::limits(best);
             let keep = _mm256_andnot_pd(
                 _mm256_or_pd(behind, _mm256_cmp_pd::<_CMP_EQ_OQ>(denom, zero)),
                 _mm256_and_pd(lt(lo, t), lt(t, limit)),
             );
-            crate::geometry::lanes::keep(best, won, limit, t, keep);
-            done += 4;
-        }
-        done
+            (t, keep)
+        })
     }
 }
 

@@ -107,13 +107,7 @@ impl Sphere {
         let r2 = _mm256_set1_pd(self.radius * self.radius);
         let zero = _mm256_setzero_pd();
         let lo = _mm256_set1_pd(t_min);
-        let mut done = 0;
-        for ((four, best), won) in rays
-            .chunks_exact(4)
-            .zip(best.chunks_exact_mut(4))
-            .zip(won.chunks_exact_mut(4))
-        {
-            let r = crate::geometry::lanes::Rays::load(four);
+        crate::geometry::lanes::each_four(rays, best, won, |r, limit| {
             let sub = |v: __m256d, k: f64| _mm256_sub_pd(v, _mm256_set1_pd(k));
             let (fx, fy, fz) = (sub(r.ox, c.x), sub(r.oy, c.y), sub(r.oz, c.z));
             let (dx, dy, dz) = (r.dx, r.dy, r.dz);
@@ -143,7 +137,6 @@ impl Sphere {
                 _mm256_cmp_pd::<_CMP_GE_OQ>(discr, zero),
             );
             let t = _mm256_blendv_pd(far, near, _mm256_cmp_pd::<_CMP_GT_OQ>(near, lo));
-            let limit = crate::geometry::lanes::limits(best);
             let keep = _mm256_and_pd(
                 real,
                 _mm256_and_pd(
@@ -151,10 +144,8 @@ impl Sphere {
                     _mm256_cmp_pd::<_CMP_LT_OQ>(t, limit),
                 ),
             );
-            crate::geometry::lanes::keep(best, won, limit, t, keep);
-            done += 4;
-        }
-        done
+            (t, keep)
+        })
     }
 
     fn roots(&self, ray: &Ray) -> Option<(f64, f64)> {
