@@ -9,7 +9,9 @@
 //! sign across it; the roots of P' come the same way from P'', down to a
 //! quadratic. Each bracketed root is found by Newton's method that keeps
 //! its bracket and falls back to bisection when a step would leave it, so
-//! it cannot diverge and converges quadratically near the root.
+//! it cannot diverge and converges quadratically near the root. A critical
+//! point (a root of a derivative) is wanted only for the sign of the level
+//! above there, so its Newton steps stop as soon as that sign is sure.
 //!
 //! Why not Sturm sequences (as POV-Ray does)? A Sturm chain is a sequence
 //! of polynomial remainders, and in floating point the remainders of a
@@ -190,6 +192,26 @@ fn horner2(c: &[f64], x: f64) -> (f64, f64) {
     (f, df)
 }
 
+/// DERIVATIVE_SCALE[d][j] = (j + 1)/d: the factor that takes coefficient
+/// j + 1 of a polynomial of degree d to coefficient j of its derivative
+/// divided by d ([`Cascade`]'s scaling). A multiplication per coefficient
+/// rather than a division, which waited on the divider for a seventh of
+/// the torus's intersection; the quotient is rounded once here instead of
+/// once per use (and where d is a power of two both are exact).
+static DERIVATIVE_SCALE: [[f64; CAP]; CAP + 1] = {
+    let mut t = [[0.0; CAP]; CAP + 1];
+    let mut d = 1;
+    while d <= CAP {
+        let mut j = 0;
+        while j < d {
+            t[d][j] = (j + 1) as f64 / d as f64;
+            j += 1;
+        }
+        d += 1;
+    }
+    t
+};
+
 /// The cascade, run lazily: level k (the k-th derivative) hands out its
 /// roots one at a time, in increasing order, and asks level k + 1 for the
 /// next critical point only when it needs the end of its next monotonic
@@ -230,9 +252,10 @@ impl<const N: usize> Cascade<N> {
         derivs[0][..=deg].copy_from_slice(c);
         for k in 1..=deg - 2 {
             let m = deg - k;
+            let scale = &DERIVATIVE_SCALE[m + 1];
             for j in 0..=m {
                 // d/dt of derivs[k-1] (degree m+1), divided by (m+1).
-                derivs[k][j] = derivs[k - 1][j + 1] * (j + 1) as f64 / (m + 1) as f64;
+                derivs[k][j] = derivs[k - 1][j + 1] * scale[j];
             }
         }
         let hi = self.hi;
@@ -280,7 +303,26 @@ impl<const N: usize> Cascade<N> {
                 self.done[k] = true;
             }
             if (fa < 0.0 && fb > 0.0) || (fa > 0.0 && fb < 0.0) {
-                return Some(bracketed(self.poly(k), a, b, fa, fb, eps));
+                if k == 0 {
+                    return Some(bracketed(self.poly(0), (a, b), (fa, fb), eps, |_, _| false));
+                }
+                // A critical point of level k − 1 is wanted only for the
+                // sign of that level's polynomial there and as the end of
+                // its monotonic pieces. An iterate x serves once that
+                // polynomial's value there is farther from zero than it can
+                // move between x and the true critical point (its slope is
+                // (deg − k + 1) × this level's polynomial: `reach` bounds
+                // the integral): then it has the same sign at both and no
+                // root between them, and each piece still holds at most one
+                // root. Twice that, for the rounding of both sides.
+                let (up, slope) = (self.poly(k - 1), (self.deg - k + 1) as f64);
+                return Some(bracketed(
+                    self.poly(k),
+                    (a, b),
+                    (fa, fb),
+                    eps,
+                    |x, reach| horner(up, x).abs() > 2.0 * slope * reach,
+                ));
             }
             if fb == 0.0 && b > a {
                 return Some(b);
@@ -323,11 +365,22 @@ fn cascade<const N: usize>(
     }
 }
 
-/// The root of `p` in [a, b], where p(a) = fa and p(b) have opposite signs
-/// and p is monotonic. Newton from the secant guess (on a monotonic piece
-/// it is usually close); every iterate updates the bracket, and a step that
-/// leaves it is replaced by bisection, so it can neither diverge nor cycle.
-fn bracketed(p: &[f64], mut a: f64, mut b: f64, fa: f64, fb: f64, eps: f64) -> f64 {
+/// The root of `p` in [a, b], where p(a) = fa and p(b) = fb have opposite
+/// signs and p is monotonic. Newton from the secant guess (on a monotonic
+/// piece it is usually close); every iterate updates the bracket, and a
+/// step that leaves it is replaced by bisection, so it can neither diverge
+/// nor cycle. `settled(x, reach)` may stop it early at an iterate x, where
+/// reach = |p(x)| · (b − a) for the bracket then: how far p's integral can
+/// move between x and the root (p is monotonic and zero at the root, so no
+/// larger than |p(x)| between them, and they are less than b − a apart).
+#[inline(always)]
+fn bracketed(
+    p: &[f64],
+    (mut a, mut b): (f64, f64),
+    (fa, fb): (f64, f64),
+    eps: f64,
+    settled: impl Fn(f64, f64) -> bool,
+) -> f64 {
     let neg_at_a = fa < 0.0;
     let mut x = a - fa * (b - a) / (fb - fa);
     if !(x > a && x < b) {
@@ -347,6 +400,9 @@ fn bracketed(p: &[f64], mut a: f64, mut b: f64, fa: f64, fb: f64, eps: f64) -> f
             a = x;
         } else {
             b = x;
+        }
+        if settled(x, f.abs() * (b - a)) {
+            return x;
         }
         let nx = x - f / df;
         if nx > a && nx < b {
