@@ -86,6 +86,9 @@ pub struct Csg {
     /// hits wearing it have their solid-texture point in this block's
     /// space, see [`Csg::texture_space`].
     texture_space: Option<MaterialId>,
+    /// Whether shading that material may read (u, v), which is then
+    /// worked out before the point moves.
+    texture_reads_uv: bool,
 }
 
 /// One change of a child's inside flag along the line.
@@ -264,6 +267,7 @@ impl Csg {
             touches: touch.iter().any(|&t| t != 0),
             touch,
             texture_space: None,
+            texture_reads_uv: false,
         }
     }
 
@@ -276,8 +280,12 @@ impl Csg {
     /// worked out before its point moves (the child's shape reads its own
     /// point for it). Nested blocks that pass the same material on end up
     /// in the outermost one's space, as each level moves the point again.
-    pub fn texture_space(mut self, material: MaterialId) -> Self {
+    /// `reads_uv`: whether shading `material` may read (u, v) at all (a
+    /// solid checker does not, and the sphere's or the cylinder's (u, v)
+    /// costs an `atan2`).
+    pub fn texture_space(mut self, material: MaterialId, reads_uv: bool) -> Self {
         self.texture_space = Some(material);
+        self.texture_reads_uv = reads_uv;
         self
     }
 
@@ -285,7 +293,7 @@ impl Csg {
     /// block's texture space (see [`Csg::texture_space`]).
     fn in_texture_space(&self, ray: &Ray, h: &mut Hit, i: usize) {
         if self.texture_space == Some(h.material) {
-            if h.path != LOST {
+            if self.texture_reads_uv && h.path != LOST {
                 h.uv = self.children[i].uv(h);
             }
             h.local = ray.at(h.t);

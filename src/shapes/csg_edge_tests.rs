@@ -112,7 +112,7 @@ fn uv_and_normal_to_world_follow_the_path_or_the_texture_space() {
         let inner = Csg::new(CsgOp::Union, vec![a, b]);
         let outer = Csg::new(CsgOp::Union, vec![Box::new(inner), c]);
         match space {
-            Some(m) => outer.texture_space(m),
+            Some(m) => outer.texture_space(m, true),
             None => outer,
         }
     };

@@ -767,3 +767,43 @@ fn a_hundred_thousand_corner_face_draws_in_seconds() {
     let expect = std::f64::consts::PI * r * r;
     assert!((lit - expect).abs() < 0.05 * expect, "{lit} vs {expect}");
 }
+
+/// Materials that each choose the one before twice over (a checker of
+/// it against itself), 60 deep: every object asked whether its material
+/// may emit, which walked both choices at every level (2⁶⁰ steps: 40
+/// levels already hung). Now linear; the ball still wears the innermost
+/// colour, and a lamp so nested still lights the scene.
+#[test]
+fn materials_choosing_materials_sixty_deep_build_at_once() {
+    let _watchdog = crate::watchdog::start();
+    let mut src = String::from(
+        "camera { position <0, 0, 5>  look_at <0, 0, 0>  up <0, 1, 0>  fov 40 }\n\
+         light { position <0, 0, 5> }\n\
+         material m0 { colour rgb(1, 0, 0) }\n\
+         material e0 { emit rgb(1, 1, 1) }\n",
+    );
+    for i in 1..=60 {
+        src += &format!(
+            "material m{i} {{ checker {{ a m{}  b m{} }} }}\n",
+            i - 1,
+            i - 1
+        );
+        src += &format!(
+            "material e{i} {{ checker {{ a e{}  b e{} }} }}\n",
+            i - 1,
+            i - 1
+        );
+    }
+    let ball = src.clone() + "sphere { radius 1  material m60 }\n";
+    let film = outcome(&ball).expect("renders");
+    let [r, g, b] = film.get(4, 3);
+    assert!(r > 0.1 && g == 0.0 && b == 0.0, "{:?}", [r, g, b]);
+    // The nested lamp is an area light: a floor under it is lit with no
+    // point light at all.
+    let lamp = src.replace("light { position <0, 0, 5> }\n", "")
+        + "sphere { centre <0, 3, 0>  radius 0.5  material e60 }\n\
+           plane { normal <0, 1, 0>  offset -1  material m0 }\n";
+    let program = raytrace::lang::load_text(Path::new("lamp.rt"), lamp).expect("parses");
+    let scene = raytrace::scene::build(&program).expect("builds");
+    assert_eq!(scene.area_lights.len(), 1);
+}

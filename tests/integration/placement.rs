@@ -140,4 +140,19 @@ material squares {{ colour checker {{ a white  b rgb(0, 0, 0)  scale 8 }} }}
     let dark = alone.pixels.iter().filter(|p| p[0] < 0.25).count();
     assert!(dark > 100, "the checker shows: {dark} dark pixels");
     assert_eq!(crate::support::max_difference(&alone, &in_union), 0.0);
+    // The same when the block's material only chooses the surface pattern
+    // (a solid pattern of materials, nested): the block works (u, v) out
+    // for what its material may choose, not only for what it is.
+    let chooser = "material picks { checker3d { a squares  b squares } }
+material outer { checker3d { a picks  b squares  size 2 } }";
+    let alone = render_src(&scene(&format!(
+        "{chooser}\n{} material outer }}",
+        &ball[..ball.len() - 1]
+    )));
+    let in_union = render_src(&scene(&format!(
+        "{chooser}\nunion {{ {ball}  sphere {{ centre <0, 9, 0> }}  material outer }}"
+    )));
+    let dark = alone.pixels.iter().filter(|p| p[0] < 0.25).count();
+    assert!(dark > 100, "the checker shows: {dark} dark pixels");
+    assert_eq!(crate::support::max_difference(&alone, &in_union), 0.0);
 }

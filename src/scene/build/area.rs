@@ -16,25 +16,11 @@ use super::params::Params;
 use crate::geometry::{DVec3, Transform};
 use crate::lang::ast::{Span, Spanned};
 use crate::lang::diagnostics::Error;
-use crate::scene::{AreaLight, Colour, LightSurface, Material, MaterialId};
+use crate::scene::{AreaLight, Colour, LightSurface, MaterialId};
 
 /// Most grid points per side of an area light (`samples 32` is 1024 shadow
 /// rays per shading point).
 pub const MAX_LIGHT_SAMPLES: u32 = 32;
-
-/// Whether material `id`, a pattern of materials, may choose one that
-/// emits (at any depth of nesting; a pattern only chooses materials made
-/// before it, so the walk ends).
-fn pick_emits(materials: &[Material], id: MaterialId) -> bool {
-    let m = &materials[id as usize];
-    match &m.pick {
-        None => m.emits(),
-        Some(pick) => pick
-            .bands
-            .iter()
-            .any(|&(_, b)| b < id && pick_emits(materials, b)),
-    }
-}
 
 /// `surface` moved by `xf`, or `None` when it cannot stay that shape.
 fn moved(surface: &LightSurface, xf: &Transform) -> Option<LightSurface> {
@@ -113,9 +99,10 @@ impl Builder<'_> {
         in_csg: bool,
     ) {
         let samples = p.take("samples");
-        let m = &self.scene.materials[material as usize];
         // A pattern of materials emits where it chooses an emitting one.
-        let chosen = m.pick.is_some() && pick_emits(&self.scene.materials, material);
+        let chosen = self.scene.materials[material as usize].pick.is_some()
+            && self.material_reach(material).emits;
+        let m = &self.scene.materials[material as usize];
         let emit = if chosen { Colour::ONE } else { m.emit };
         let n = match &samples {
             Some(q) => match self.integer(&q.values[0], 1, MAX_LIGHT_SAMPLES) {

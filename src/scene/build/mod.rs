@@ -173,6 +173,9 @@ struct Builder<'p> {
     /// Mistakes reported so far, those already seen included (so that a
     /// build can tell it met none: [`Builder::errors`] holds each once).
     err_calls: usize,
+    /// Per material made so far, what it may show through the materials
+    /// it may choose ([`Builder::material_reach`]).
+    material_reach: Vec<materials::Reach>,
 }
 
 /// An object value built for placements: (the value's address, its
@@ -235,6 +238,7 @@ impl<'p> Builder<'p> {
             plain_materials: HashMap::default(),
             block_materials: HashMap::default(),
             err_calls: 0,
+            material_reach: Vec::new(),
         }
     }
 

@@ -210,7 +210,8 @@ impl Builder<'_> {
                 if shapes.is_empty() {
                     Vec::new()
                 } else {
-                    let csg = Csg::new(CsgOp::Union, shapes).texture_space(mat);
+                    let reads_uv = self.material_reach(mat).reads_uv;
+                    let csg = Csg::new(CsgOp::Union, shapes).texture_space(mat, reads_uv);
                     vec![wrap(Box::new(csg), total)]
                 }
             }
@@ -251,7 +252,8 @@ impl Builder<'_> {
                     // Emissive spheres inside were placed in its space.
                     self.place_lights_since(lights, &total, kw.span);
                     // Its material's solid patterns live in the block's space.
-                    let csg = Csg::new(op, shapes).texture_space(mat);
+                    let reads_uv = self.material_reach(mat).reads_uv;
+                    let csg = Csg::new(op, shapes).texture_space(mat, reads_uv);
                     vec![wrap(Box::new(csg), total)]
                 }
             }
