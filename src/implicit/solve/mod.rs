@@ -195,9 +195,9 @@ fn horner2(c: &[f64], x: f64) -> (f64, f64) {
 /// DERIVATIVE_SCALE[d][j] = (j + 1)/d: the factor that takes coefficient
 /// j + 1 of a polynomial of degree d to coefficient j of its derivative
 /// divided by d ([`Cascade`]'s scaling). A multiplication per coefficient
-/// rather than a division, which waited on the divider for a seventh of
-/// the torus's intersection; the quotient is rounded once here instead of
-/// once per use (and where d is a power of two both are exact).
+/// where x·(j + 1)/d took a division, which waited on the divider for a
+/// seventh of the torus's intersection: a different rounding and as good
+/// (where d is a power of two, the same bits).
 static DERIVATIVE_SCALE: [[f64; CAP]; CAP + 1] = {
     let mut t = [[0.0; CAP]; CAP + 1];
     let mut d = 1;

@@ -120,6 +120,38 @@ fn close_pairs_survive_rough_critical_points() {
     }
 }
 
+/// The early stop does stop early: a critical point whose level above is
+/// far from zero there is handed out before Newton's steps would have
+/// pinned it down (here after the first, 0.013 off), with the sign
+/// of the level above that the exact one has.
+#[test]
+fn a_critical_point_is_refined_only_until_its_sign_is_sure() {
+    let _watchdog = crate::watchdog::start();
+    // Roots ±0.3, ±0.8: P' vanishes at 0 and ±√0.365, where P is −0.0756.
+    let c = from_roots(&[-0.8, -0.3, 0.3, 0.8], 0.0, 0);
+    let mut s = Cascade::<5> {
+        deg: 4,
+        derivs: [[0.0; 5]; 5],
+        hi: 1.0,
+        eps: 1e-15,
+        a: [-1.0; 5],
+        fa: [0.0; 5],
+        b: [1.0; 5],
+        fb: [0.0; 5],
+        fetched: [false; 5],
+        done: [false; 5],
+        quad: [0.0; 2],
+        quad_count: 0,
+        quad_next: 0,
+    };
+    s.fill(&c, -1.0);
+    let x = s.next(1).expect("a critical point");
+    let exact = -0.365f64.sqrt();
+    assert!((x - exact).abs() < 0.05, "{x}");
+    assert!((x - exact).abs() > 1e-9, "refined to {x}, as if to the end");
+    assert!(horner(&c, x) < 0.0 && horner(&c, exact) < 0.0);
+}
+
 /// A root exactly on a critical point (a double root at a piece's end, as
 /// where a ray grazes a surface at a pixel's exact centre): reported once,
 /// never twice and never beside itself. Duplicated crossings flip CSG's

@@ -68,17 +68,15 @@ impl Builder<'_> {
                         emits: false,
                         reads_uv: m.reads_uv(),
                     },
-                    // A choice not made before would be a loop: it never
-                    // emits, and is taken to read (u, v) to be safe.
+                    // A pattern's choices are made before it (the walk
+                    // ends); one that was not would be a loop, and counts
+                    // for nothing, as it did when walked.
                     |r, &(_, b)| match reach.get(b as usize).filter(|_| (b as usize) < i) {
                         Some(o) => Reach {
                             emits: r.emits || o.emits,
                             reads_uv: r.reads_uv || o.reads_uv,
                         },
-                        None => Reach {
-                            reads_uv: true,
-                            ..r
-                        },
+                        None => r,
                     },
                 ),
             };
