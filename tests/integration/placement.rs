@@ -130,29 +130,25 @@ material squares {{ colour checker {{ a white  b rgb(0, 0, 0)  scale 8 }} }}
         )
     };
     let ball = "sphere { radius 1  rotate x 30  translate <0.3, 0.2, 0> }";
-    let alone = render_src(&scene(&format!(
-        "{} material squares }}",
-        &ball[..ball.len() - 1]
-    )));
-    let in_union = render_src(&scene(&format!(
-        "union {{ {ball}  sphere {{ centre <0, 9, 0> }}  material squares }}"
-    )));
-    let dark = alone.pixels.iter().filter(|p| p[0] < 0.25).count();
-    assert!(dark > 100, "the checker shows: {dark} dark pixels");
-    assert_eq!(crate::support::max_difference(&alone, &in_union), 0.0);
-    // The same when the block's material only chooses the surface pattern
+    // The pattern given straight, and only chosen by the block's material
     // (a solid pattern of materials, nested): the block works (u, v) out
     // for what its material may choose, not only for what it is.
     let chooser = "material picks { checker3d { a squares  b squares } }
 material outer { checker3d { a picks  b squares  size 2 } }";
-    let alone = render_src(&scene(&format!(
-        "{chooser}\n{} material outer }}",
-        &ball[..ball.len() - 1]
-    )));
-    let in_union = render_src(&scene(&format!(
-        "{chooser}\nunion {{ {ball}  sphere {{ centre <0, 9, 0> }}  material outer }}"
-    )));
-    let dark = alone.pixels.iter().filter(|p| p[0] < 0.25).count();
-    assert!(dark > 100, "the checker shows: {dark} dark pixels");
-    assert_eq!(crate::support::max_difference(&alone, &in_union), 0.0);
+    for (prelude, material) in [("", "squares"), (chooser, "outer")] {
+        let alone = render_src(&scene(&format!(
+            "{prelude}\n{} material {material} }}",
+            &ball[..ball.len() - 1]
+        )));
+        let in_union = render_src(&scene(&format!(
+            "{prelude}\nunion {{ {ball}  sphere {{ centre <0, 9, 0> }}  material {material} }}"
+        )));
+        let dark = alone.pixels.iter().filter(|p| p[0] < 0.25).count();
+        assert!(dark > 100, "{material}: {dark} dark pixels");
+        assert_eq!(
+            crate::support::max_difference(&alone, &in_union),
+            0.0,
+            "{material}"
+        );
+    }
 }
