@@ -45,6 +45,10 @@
 //! (after any child) or a difference (after its first child) stops as
 //! soon as what that child encloses misses the window asked about, and
 //! narrows the window for the children after it.
+//!
+//! One concept, kept whole: the sweep, its shortcuts and the hit they
+//! hand back share the same bits and keys (`Flip`, `Scratch`, `LOST`);
+//! split apart they would only pass those around (tests live beside).
 
 use super::{Crossing, Hit, Shape};
 use crate::geometry::{Aabb, DVec2, DVec3, Ray};
