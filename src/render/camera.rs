@@ -62,28 +62,57 @@ impl CameraRays {
         lens: &[(f64, f64)],
         out: &mut Vec<Ray>,
     ) {
+        self.rays_for((pixel.x, pixel.y), 0, spots, lens, out)
+    }
+
+    /// One ray a pixel for the pixels (x0 + k, y) of a row: pixel k's
+    /// through point `spots[k]` of it and `lens[k]` of the lens, as
+    /// [`CameraRays::rays_into`] would make each alone (the same bits).
+    /// Made together, four neighbours' square roots and divisions overlap
+    /// instead of each waiting at the head of its pixel's path.
+    pub fn row_rays_into(
+        &self,
+        (x0, y): (u32, u32),
+        spots: &[(f64, f64)],
+        lens: &[(f64, f64)],
+        out: &mut Vec<Ray>,
+    ) {
+        self.rays_for((x0, y), 1, spots, lens, out)
+    }
+
+    /// Sample k's ray through point `spots[k]` of pixel (x0 + k·step, y).
+    #[inline(always)]
+    fn rays_for(
+        &self,
+        (x0, y): (u32, u32),
+        step: u32,
+        spots: &[(f64, f64)],
+        lens: &[(f64, f64)],
+        out: &mut Vec<Ray>,
+    ) {
         out.clear();
-        let (px, py) = (pixel.x as f64, pixel.y as f64);
         #[cfg(target_arch = "x86_64")]
         if crate::geometry::lanes::available() {
             // SAFETY: the CPU has AVX.
-            unsafe { self.rays_avx((px, py), spots, lens, out) };
+            unsafe { self.rays_avx((x0, y), step, spots, lens, out) };
         }
         let done = out.len();
         out.extend(spots[done..].iter().enumerate().map(|(k, &(dx, dy))| {
+            let x = x0 + (done + k) as u32 * step;
             let q = lens.get(done + k).copied().unwrap_or((0.5, 0.5));
-            self.ray(px + dx, py + dy, q)
+            self.ray(x as f64 + dx, y as f64 + dy, q)
         }));
     }
 
-    /// [`CameraRays::rays_into`] for whole fours of samples (those with
+    /// [`CameraRays::rays_for`] for whole fours of samples (those with
     /// lens points, when the camera has a lens), in four lanes; the rest
     /// are left to the scalar route.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx")]
     unsafe fn rays_avx(
         &self,
-        (px, py): (f64, f64),
+        (x0, y): (u32, u32),
+        step: u32,
         spots: &[(f64, f64)],
         lens: &[(f64, f64)],
         out: &mut Vec<Ray>,
@@ -97,10 +126,14 @@ impl CameraRays {
             _mm256_set_pd(f(&v[3]), f(&v[2]), f(&v[1]), f(&v[0]))
         };
         out.resize(4 * fours, Ray::new(Default::default(), Default::default()));
+        let py = _mm256_set1_pd(y as f64);
         for (k, four) in out.chunks_exact_mut(4).enumerate() {
             let s = &spots[4 * k..4 * k + 4];
-            let x = _mm256_add_pd(_mm256_set1_pd(px), lane(s, |p| p.0));
-            let y = _mm256_add_pd(_mm256_set1_pd(py), lane(s, |p| p.1));
+            // Lane i's pixel column, a whole number (exact in f64).
+            let at = |i: u32| (x0 + (4 * k as u32 + i) * step) as f64;
+            let px = _mm256_set_pd(at(3), at(2), at(1), at(0));
+            let x = _mm256_add_pd(px, lane(s, |p| p.0));
+            let y = _mm256_add_pd(py, lane(s, |p| p.1));
             let on_lens = self.lens.map(|l| {
                 let q = &lens[4 * k..4 * k + 4];
                 let a = _mm256_set1_pd(l.aperture);
@@ -196,8 +229,8 @@ mod tests {
 
     #[test]
     fn a_pixels_rays_made_together_are_each_rays_own() {
-        // rays_into (four lanes where the CPU has AVX, a scalar tail)
-        // against `ray` one sample at a time, to the bit: lensed and
+        // rays_into and row_rays_into (four lanes where the CPU has AVX,
+        // a scalar tail) against `ray` one sample at a time, to the bit: lensed and
         // pinhole cameras (view planes at distance 1 and 2), every count from 1 to 9 (tails of 0 to 3),
         // and lens points on the disc map's awkward places (the centre,
         // both diagonals, the edges) in every lane.
@@ -227,18 +260,26 @@ mod tests {
                             _ => (rnd(), rnd()),
                         })
                         .collect();
-                    let mut got = vec![Ray::new(DVec3::NAN, DVec3::NAN)];
-                    rays.rays_into(pixel, &spots, &lens, &mut got);
-                    assert_eq!(got.len(), count);
-                    for (s, r) in got.iter().enumerate() {
-                        let (x, y) = (pixel.x as f64 + spots[s].0, pixel.y as f64 + spots[s].1);
-                        let want = rays.ray(x, y, lens[s]);
-                        for (a, b) in [(r.origin, want.origin), (r.dir, want.dir)] {
-                            assert_eq!(
-                                a.to_array().map(f64::to_bits),
-                                b.to_array().map(f64::to_bits),
-                                "sample {s} of {count}"
-                            );
+                    // Step 0: the samples of one pixel; step 1: one sample
+                    // each of the pixels along a row from `pixel`.
+                    for step in [0, 1] {
+                        let mut got = vec![Ray::new(DVec3::NAN, DVec3::NAN)];
+                        match step {
+                            0 => rays.rays_into(pixel, &spots, &lens, &mut got),
+                            _ => rays.row_rays_into((pixel.x, pixel.y), &spots, &lens, &mut got),
+                        }
+                        assert_eq!(got.len(), count);
+                        for (s, r) in got.iter().enumerate() {
+                            let column = pixel.x + step * s as u32;
+                            let (x, y) = (column as f64 + spots[s].0, pixel.y as f64 + spots[s].1);
+                            let want = rays.ray(x, y, lens[s]);
+                            for (a, b) in [(r.origin, want.origin), (r.dir, want.dir)] {
+                                assert_eq!(
+                                    a.to_array().map(f64::to_bits),
+                                    b.to_array().map(f64::to_bits),
+                                    "sample {s} of {count}, step {step}"
+                                );
+                            }
                         }
                     }
                 }

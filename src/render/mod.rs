@@ -61,6 +61,9 @@ const BEAM_RAYS: usize = 4;
 /// tested only against what lies between the light and the pixel's hits:
 /// finding that costs a few hundred instructions more a pixel.
 const LIGHT_SHAFT_RAYS: usize = 16;
+/// Pictures of one sample a pixel make this many neighbours' camera rays
+/// at a time (two fours of lanes).
+const ROW_RAYS: usize = 8;
 
 /// A rectangle of the picture, in the full picture's pixel coordinates.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -124,6 +127,7 @@ pub fn render_region(
     let pixels = PixelRenderer {
         camera: &camera,
         integrator: &integrator,
+        keep_colours: refine.is_some(),
     };
     let start = std::time::Instant::now();
     let done = AtomicU64::new(0);
@@ -140,17 +144,31 @@ pub fn render_region(
                 return counts;
             }
             let mut scratch = Scratch::default();
-            for (out, a) in row.iter_mut().zip(region.x..x1) {
-                let pixel = Pixel { x: a, y: b };
-                let first = pixels.render(pixel, &sampler, &mut scratch, &mut counts);
-                let c = match &refine {
-                    Some(r) if r.disagree(&scratch.colours) => {
-                        counts.refined += 1;
-                        pixels.render(pixel, &r.sampler, &mut scratch, &mut counts)
+            // One sample a pixel (never refined: that needs two): a few
+            // neighbours' camera rays at a time.
+            if sampler.count() == 1 {
+                let mut colours = [Colour::ZERO; ROW_RAYS];
+                let starts = (region.x..x1).step_by(ROW_RAYS);
+                for (outs, a) in row.chunks_mut(ROW_RAYS).zip(starts) {
+                    let colours = &mut colours[..outs.len()];
+                    pixels.render_row((a, b), &sampler, &mut scratch, &mut counts, colours);
+                    for (out, c) in outs.iter_mut().zip(colours) {
+                        *out = [c.x as f32, c.y as f32, c.z as f32];
                     }
-                    _ => first,
-                };
-                *out = [c.x as f32, c.y as f32, c.z as f32];
+                }
+            } else {
+                for (out, a) in row.iter_mut().zip(region.x..x1) {
+                    let pixel = Pixel { x: a, y: b };
+                    let first = pixels.render(pixel, &sampler, &mut scratch, &mut counts);
+                    let c = match &refine {
+                        Some(r) if r.disagree(&scratch.colours) => {
+                            counts.refined += 1;
+                            pixels.render(pixel, &r.sampler, &mut scratch, &mut counts)
+                        }
+                        _ => first,
+                    };
+                    *out = [c.x as f32, c.y as f32, c.z as f32];
+                }
             }
             let n = done.fetch_add(1, Ordering::Relaxed) + 1;
             if let Some(p) = opts.progress {
@@ -190,17 +208,27 @@ struct Scratch<'w> {
     lights: Vec<Option<crate::accel::Blockers>>,
     /// Each sample's colour, for the adaptive test.
     colours: Vec<Colour>,
+    /// A few neighbours' points in their pixels and on the lens, and their
+    /// camera rays ([`PixelRenderer::render_row`]).
+    row_spots: Vec<(f64, f64)>,
+    row_lens: Vec<(f64, f64)>,
+    row_rays: Vec<crate::geometry::Ray>,
 }
 
 /// One pixel's samples through the camera and the integrator.
 struct PixelRenderer<'a> {
     camera: &'a CameraRays,
     integrator: &'a Integrator<'a>,
+    /// Whether each sample's colour is kept for the adaptive test. Only
+    /// then: the copy read the colour back 16 bytes at a time just after
+    /// `shade_hit` had stored it 8 at a time (a stalled store-to-load
+    /// forward at every sample), where adding it up reads 8 at a time.
+    keep_colours: bool,
 }
 
 impl<'a> PixelRenderer<'a> {
     /// The mean of `sampler`'s samples of `pixel` (each one kept in
-    /// `scratch.colours`).
+    /// `scratch.colours` when the adaptive test wants them).
     fn render(
         &self,
         pixel: Pixel,
@@ -213,12 +241,70 @@ impl<'a> PixelRenderer<'a> {
         if self.camera.has_lens() {
             sampler.pattern_with(pixel, LENS_DIM, &mut scratch.lens, &mut scratch.hashes);
         }
-        scratch.colours.clear();
         // Every camera ray first, then every path: the rays are independent
         // of each other, so their square roots and divisions overlap in the
         // pipeline instead of each waiting at the head of its own path.
         self.camera
             .rays_into(pixel, &scratch.spots, &scratch.lens, &mut scratch.rays);
+        self.trace(pixel, sampler, scratch, counts)
+    }
+
+    /// [`PixelRenderer::render`] for pictures of one sample a pixel, the
+    /// pixels (x0 + k, y) of a row into `out[k]`: their camera rays made
+    /// together first ([`CameraRays::row_rays_into`]), then each traced
+    /// alone. The same colours as `render` of each.
+    fn render_row(
+        &self,
+        (x0, y): (u32, u32),
+        sampler: &PixelSampler,
+        scratch: &mut Scratch<'a>,
+        counts: &mut stats::RayCounts,
+        out: &mut [Colour],
+    ) {
+        debug_assert_eq!(sampler.count(), 1);
+        scratch.row_spots.clear();
+        scratch.row_lens.clear();
+        for k in 0..out.len() as u32 {
+            let pixel = Pixel { x: x0 + k, y };
+            sampler.pattern_with(pixel, PIXEL_DIM, &mut scratch.spots, &mut scratch.hashes);
+            scratch.row_spots.push(scratch.spots[0]);
+            if self.camera.has_lens() {
+                sampler.pattern_with(pixel, LENS_DIM, &mut scratch.lens, &mut scratch.hashes);
+                scratch.row_lens.push(scratch.lens[0]);
+            }
+        }
+        let mut rays = std::mem::take(&mut scratch.row_rays);
+        self.camera
+            .row_rays_into((x0, y), &scratch.row_spots, &scratch.row_lens, &mut rays);
+        for (k, (ray, c)) in rays.iter().zip(out).enumerate() {
+            scratch.rays.clear();
+            scratch.rays.push(*ray);
+            *c = self.trace(
+                Pixel {
+                    x: x0 + k as u32,
+                    y,
+                },
+                sampler,
+                scratch,
+                counts,
+            );
+        }
+        scratch.row_rays = rays;
+    }
+
+    /// The mean of the paths of the camera rays in `scratch.rays`, the
+    /// samples of `pixel`. Inlined in both callers: a colour handed back
+    /// in memory is read back before its stores have landed (a stalled
+    /// store-to-load forward, a quarter of an empty picture's time).
+    #[inline(always)]
+    fn trace(
+        &self,
+        pixel: Pixel,
+        sampler: &PixelSampler,
+        scratch: &mut Scratch<'a>,
+        counts: &mut stats::RayCounts,
+    ) -> Colour {
+        scratch.colours.clear();
         let key = PixelKey::new(pixel, sampler.seed);
         let mut sum = Colour::ZERO;
         fn path(key: PixelKey, s: usize, counts: &mut stats::RayCounts) -> Path<'_> {
@@ -241,17 +327,22 @@ impl<'a> PixelRenderer<'a> {
         if n < LIGHT_SHAFT_RAYS {
             for (s, ray) in scratch.rays.iter().enumerate() {
                 let path = &mut path(key, s, counts);
-                let c = match &among {
-                    None => self.integrator.trace(ray, 0, path),
+                let mut take = |c: Colour| {
+                    sum += c;
+                    if self.keep_colours {
+                        scratch.colours.push(c);
+                    }
+                };
+                match &among {
+                    None => take(self.integrator.trace(ray, 0, path)),
                     Some(objects) => {
                         let mut hit = Hit::default();
                         let found = self.integrator.first_hit(ray, Some(objects), &mut hit);
                         let found = found.map(|o| (&mut hit, o));
-                        self.integrator.shade_first(ray, found, true, &[], path)
+                        self.integrator
+                            .shade_first(ray, found, true, &[], path, take)
                     }
-                };
-                scratch.colours.push(c);
-                sum += c;
+                }
             }
         } else {
             // More still: every first hit is found before any is shaded,
@@ -287,15 +378,20 @@ impl<'a> PixelRenderer<'a> {
             self.integrator.light_blockers(&points, &mut scratch.lights);
             for (s, ray) in scratch.rays.iter().enumerate() {
                 let found = scratch.objects[s].map(|o| (&mut scratch.hits[s], o));
-                let c = self.integrator.shade_first(
+                let colours = &mut scratch.colours;
+                self.integrator.shade_first(
                     ray,
                     found,
                     among.is_some(),
                     &scratch.lights,
                     &mut path(key, s, counts),
+                    |c| {
+                        sum += c;
+                        if self.keep_colours {
+                            colours.push(c);
+                        }
+                    },
                 );
-                scratch.colours.push(c);
-                sum += c;
             }
         }
         if scratch.rays.len() == 1 {
