@@ -236,17 +236,24 @@ impl<'a> PixelRenderer<'a> {
         scratch: &mut Scratch<'a>,
         counts: &mut stats::RayCounts,
     ) -> Colour {
-        sampler.pattern_with(pixel, PIXEL_DIM, &mut scratch.spots, &mut scratch.hashes);
-        scratch.lens.clear();
-        if self.camera.has_lens() {
-            sampler.pattern_with(pixel, LENS_DIM, &mut scratch.lens, &mut scratch.hashes);
-        }
+        self.points(pixel, sampler, scratch);
         // Every camera ray first, then every path: the rays are independent
         // of each other, so their square roots and divisions overlap in the
         // pipeline instead of each waiting at the head of its own path.
         self.camera
             .rays_into(pixel, &scratch.spots, &scratch.lens, &mut scratch.rays);
         self.trace(pixel, sampler, scratch, counts)
+    }
+
+    /// `pixel`'s points in the pixel and, with a lens, on the lens: into
+    /// `scratch.spots` and `scratch.lens` (left empty without one).
+    #[inline(always)]
+    fn points(&self, pixel: Pixel, sampler: &PixelSampler, scratch: &mut Scratch<'a>) {
+        sampler.pattern_with(pixel, PIXEL_DIM, &mut scratch.spots, &mut scratch.hashes);
+        scratch.lens.clear();
+        if self.camera.has_lens() {
+            sampler.pattern_with(pixel, LENS_DIM, &mut scratch.lens, &mut scratch.hashes);
+        }
     }
 
     /// [`PixelRenderer::render`] for pictures of one sample a pixel, the
@@ -265,12 +272,10 @@ impl<'a> PixelRenderer<'a> {
         scratch.row_spots.clear();
         scratch.row_lens.clear();
         for k in 0..out.len() as u32 {
-            let pixel = Pixel { x: x0 + k, y };
-            sampler.pattern_with(pixel, PIXEL_DIM, &mut scratch.spots, &mut scratch.hashes);
+            self.points(Pixel { x: x0 + k, y }, sampler, scratch);
             scratch.row_spots.push(scratch.spots[0]);
-            if self.camera.has_lens() {
-                sampler.pattern_with(pixel, LENS_DIM, &mut scratch.lens, &mut scratch.hashes);
-                scratch.row_lens.push(scratch.lens[0]);
+            if let Some(&q) = scratch.lens.first() {
+                scratch.row_lens.push(q);
             }
         }
         let mut rays = std::mem::take(&mut scratch.row_rays);
