@@ -329,15 +329,19 @@ impl<'a> PixelRenderer<'a> {
                     .beam_candidates(&self.camera.family(pixel))
             })
             .flatten();
+        // Each sample's colour, summed (and kept for the adaptive test)
+        // where it arrives.
+        let keep = self.keep_colours;
+        let colours = &mut scratch.colours;
+        let mut take = |c: Colour| {
+            sum += c;
+            if keep {
+                colours.push(c);
+            }
+        };
         if n < LIGHT_SHAFT_RAYS {
             for (s, ray) in scratch.rays.iter().enumerate() {
                 let path = &mut path(key, s, counts);
-                let mut take = |c: Colour| {
-                    sum += c;
-                    if self.keep_colours {
-                        scratch.colours.push(c);
-                    }
-                };
                 match &among {
                     None => take(self.integrator.trace(ray, 0, path)),
                     Some(objects) => {
@@ -345,7 +349,7 @@ impl<'a> PixelRenderer<'a> {
                         let found = self.integrator.first_hit(ray, Some(objects), &mut hit);
                         let found = found.map(|o| (&mut hit, o));
                         self.integrator
-                            .shade_first(ray, found, true, &[], path, take)
+                            .shade_first(ray, found, true, &[], path, &mut take)
                     }
                 }
             }
@@ -383,19 +387,13 @@ impl<'a> PixelRenderer<'a> {
             self.integrator.light_blockers(&points, &mut scratch.lights);
             for (s, ray) in scratch.rays.iter().enumerate() {
                 let found = scratch.objects[s].map(|o| (&mut scratch.hits[s], o));
-                let colours = &mut scratch.colours;
                 self.integrator.shade_first(
                     ray,
                     found,
                     among.is_some(),
                     &scratch.lights,
                     &mut path(key, s, counts),
-                    |c| {
-                        sum += c;
-                        if self.keep_colours {
-                            colours.push(c);
-                        }
-                    },
+                    &mut take,
                 );
             }
         }
