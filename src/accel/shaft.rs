@@ -59,17 +59,21 @@ impl Shaft {
         let inside = (apex + centre * 4.0) * 0.2;
         let mut planes = [(DVec3::ZERO, 0.0); 5];
         let mut margins = [0.0; 5];
+        // The normals are left at the length the cross product gives them
+        // (as `towards_box` leaves its own): each plane's margin and the
+        // apex's clearance grow with |n|₁ instead, and no square root or
+        // division waits at the head of every face (a shaft is made per
+        // shading point).
         let mut face = |k: usize, a: DVec3, b: DVec3, c: DVec3| -> Option<()> {
-            let n = (b - a).cross(c - a);
-            let len = n.length();
-            if len == 0.0 || !len.is_finite() {
+            let mut n = (b - a).cross(c - a);
+            let size = n.x.abs() + n.y.abs() + n.z.abs();
+            if size == 0.0 || !size.is_finite() {
                 return None;
             }
-            let mut n = n / len;
             let mut d = n.dot(a);
             // The apex must lie clearly inside every side and off the base.
             let depth = d - n.dot(inside);
-            if depth.abs() <= 1e-6 * scale {
+            if depth.abs() <= 1e-6 * scale * size {
                 return None;
             }
             if depth < 0.0 {
@@ -77,7 +81,7 @@ impl Shaft {
                 d = -d;
             }
             planes[k] = (n, d);
-            margins[k] = MARGIN * scale;
+            margins[k] = margin(n, MARGIN * scale);
             Some(())
         };
         for k in 0..4 {
@@ -345,8 +349,12 @@ pub(super) mod tests {
             ];
             for (k, f) in faces.iter().enumerate() {
                 let c = (f[0] + f[1] + f[2]) / 3.0;
+                // Normals are not of unit length: the shift goes along the
+                // unit one.
                 let (n, d) = s.planes[k];
-                assert!((n.dot(c) - d).abs() < 1e-9 * (1.0 + c.abs().max_element()));
+                let scale = n.length() * (1.0 + c.abs().max_element());
+                assert!((n.dot(c) - d).abs() < 1e-9 * scale);
+                let n = n.normalize();
                 let r = 0.01 * (f[1] - f[0]).length().min((f[2] - f[0]).length());
                 let out = Aabb::new(c - DVec3::splat(r), c + DVec3::splat(r));
                 let shifted = |t: f64| Aabb {
