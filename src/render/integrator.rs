@@ -518,11 +518,16 @@ impl<'a> Integrator<'a> {
         }
         counts.shadow += 1;
         let mut t = Colour::ONE;
-        let mut ray = *ray;
+        // The first stretch is `ray` itself, not a copy: it was stored a
+        // coordinate at a time just before, and a copy read it back 16
+        // bytes at a time (a stalled store-to-load forward at every shadow
+        // ray of a scene with glass).
+        let mut moved: Option<Ray> = None;
         let mut left = dist;
         let mut hit = crate::shapes::Hit::default();
         for _ in 0..MAX_SHADOW_SURFACES {
-            if self.world.nearest_into(&ray, 0.0, left, &mut hit).is_none() {
+            let ray = moved.as_ref().unwrap_or(ray);
+            if self.world.nearest_into(ray, 0.0, left, &mut hit).is_none() {
                 return t;
             }
             // (u, v) as the shape gave it: shadow rays do not ask for more.
@@ -541,7 +546,8 @@ impl<'a> Integrator<'a> {
             if t == Colour::ZERO {
                 return t;
             }
-            (ray, left) = Self::through(&ray, &hit, left);
+            let (next, l) = Self::through(ray, &hit, left);
+            (moved, left) = (Some(next), l);
         }
         Colour::ZERO
     }
