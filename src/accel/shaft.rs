@@ -269,6 +269,19 @@ pub(super) mod tests {
         assert!(!s.may_meet(&unit_box(DVec3::new(0.0, 7.0, 0.0), 0.5)));
     }
 
+    /// The apex must lie clearly off the light's plane: where the
+    /// pyramid's inner point (a fifth of the way from the base's centre
+    /// to the apex) lies within a millionth of the scene's size (6 here)
+    /// of a face, the shaft is refused and the rays go through the tree,
+    /// whatever length the faces' normals have (the base's is 4 long).
+    #[test]
+    fn an_apex_all_but_in_the_lights_plane_is_refused() {
+        let _watchdog = crate::watchdog::start();
+        let below = |inner: f64| DVec3::new(0.0, 6.0 - 5.0 * inner * 6.0, 0.0);
+        assert!(Shaft::new(below(0.6e-6), light_square()).is_none());
+        assert!(Shaft::new(below(2e-6), light_square()).is_some());
+    }
+
     #[test]
     fn the_light_itself_lies_outside_and_a_box_just_below_it_inside() {
         let _watchdog = crate::watchdog::start();
