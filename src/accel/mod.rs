@@ -54,7 +54,7 @@ impl Accel {
 }
 
 use crate::geometry::{Aabb, Ray};
-use crate::shapes::{Hit, Shape};
+use crate::shapes::{Hit, Roots, Shape};
 use std::sync::atomic::{AtomicU64, Ordering};
 
 /// Counts for `--stats`.
@@ -341,9 +341,26 @@ impl World {
     ) -> Option<&dyn Shape> {
         let mut best: Option<&dyn Shape> = None;
         let mut t_best = t_max;
+        // An unbounded shape that finds its root apart from its hit (the
+        // floor) gives only its root here, and its hit is made at the end
+        // if nothing in the tree comes nearer: a floor seen behind a ball
+        // no longer builds a hit the ball then overwrites.
+        let mut deferred: Option<&dyn Roots> = None;
         for o in &self.unbounded {
-            nearer(&**o, ray, t_min, &mut t_best, hit, &mut best);
+            match o.roots() {
+                Some(r) => {
+                    if let Some(t) = r.root_within(ray, t_min, t_best) {
+                        (t_best, best, deferred) = (t, Some(&**o), Some(r));
+                    }
+                }
+                None => {
+                    if o.intersect_into(ray, t_min, t_best, hit) {
+                        (t_best, best, deferred) = (hit.t, Some(&**o), None);
+                    }
+                }
+            }
         }
+        let mut in_tree = false;
         match &self.index {
             WorldIndex::Kd(tree) => {
                 let mut mailbox = Mailbox::default();
@@ -355,24 +372,23 @@ impl World {
                     if !o.intersect_into(ray, t_min, limit, hit) {
                         return None;
                     }
-                    best = Some(o);
+                    (best, in_tree) = (Some(o), true);
                     Some(hit.t)
                 });
             }
             // Each object is in one leaf: no mailbox.
             WorldIndex::Bvh(b) => b.walk(ray, t_min, t_best, |first, count, mut limit| {
                 for &i in &b.items()[first..first + count] {
-                    nearer(
-                        &*self.bounded[i as usize],
-                        ray,
-                        t_min,
-                        &mut limit,
-                        hit,
-                        &mut best,
-                    );
+                    let o = &*self.bounded[i as usize];
+                    if o.intersect_into(ray, t_min, limit, hit) {
+                        (limit, best, in_tree) = (hit.t, Some(o), true);
+                    }
                 }
                 limit
             }),
+        }
+        if let (Some(r), false) = (deferred, in_tree) {
+            r.hit_at_root(ray, t_best, hit);
         }
         best
     }

@@ -181,6 +181,10 @@ pub trait Roots {
     /// else changes.
     fn nearest_roots(&self, rays: &[Ray], t_min: f64, best: &mut [f64], won: &mut [bool]);
 
+    /// The root [`Shape::intersect_into`] would hit within (t_min,
+    /// t_max) for one ray.
+    fn root_within(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<f64>;
+
     /// The hit [`Shape::intersect_into`] makes at root `t` of `ray`,
     /// written into `hit` (handed back, its 160 bytes were copied).
     fn hit_at_root(&self, ray: &Ray, t: f64, hit: &mut Hit);
