@@ -182,8 +182,13 @@ pub trait Roots {
     fn nearest_roots(&self, rays: &[Ray], t_min: f64, best: &mut [f64], won: &mut [bool]);
 
     /// The root [`Shape::intersect_into`] would hit within (t_min,
-    /// t_max) for one ray.
-    fn root_within(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<f64>;
+    /// t_max) for one ray (the world asks an unbounded shape so, and
+    /// makes its hit only if nothing else comes nearer).
+    fn root_within(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<f64> {
+        let (mut best, mut won) = ([t_max], [false]);
+        self.nearest_roots(std::slice::from_ref(ray), t_min, &mut best, &mut won);
+        won[0].then_some(best[0])
+    }
 
     /// The hit [`Shape::intersect_into`] makes at root `t` of `ray`,
     /// written into `hit` (handed back, its 160 bytes were copied).
@@ -548,6 +553,9 @@ pub(crate) mod testing {
                         "ray {ray:?} from {t_min} below {}",
                         limits[i]
                     );
+                    // One ray alone, as the world asks an unbounded shape.
+                    let alone = roots.root_within(ray, t_min, limits[i]);
+                    assert_eq!(alone.map(f64::to_bits), hit.then(|| want.t.to_bits()));
                     if hit {
                         assert_eq!(best[i].to_bits(), want.t.to_bits());
                         let mut got = Hit::default();

@@ -103,6 +103,8 @@ impl super::Roots for Plane {
         self.nearest_roots_scalar(&rays[done..], t_min, &mut best[done..], &mut won[done..]);
     }
 
+    /// A floor is asked for every ray: its root straight away, not
+    /// through the many-ray route's lanes.
     fn root_within(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<f64> {
         self.root_in(ray, t_min, t_max)
     }

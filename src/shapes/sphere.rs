@@ -194,10 +194,6 @@ impl super::Roots for Sphere {
         self.nearest_roots_scalar(&rays[done..], t_min, &mut best[done..], &mut won[done..]);
     }
 
-    fn root_within(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<f64> {
-        self.nearest_root(ray, t_min, t_max)
-    }
-
     fn hit_at_root(&self, ray: &Ray, t: f64, hit: &mut Hit) {
         *hit = self.hit_at(ray, t);
     }
