@@ -354,13 +354,12 @@ impl World {
                     }
                 }
                 None => {
-                    if o.intersect_into(ray, t_min, t_best, hit) {
-                        (t_best, best, deferred) = (hit.t, Some(&**o), None);
+                    if nearer(&**o, ray, t_min, &mut t_best, hit, &mut best) {
+                        deferred = None;
                     }
                 }
             }
         }
-        let mut in_tree = false;
         match &self.index {
             WorldIndex::Kd(tree) => {
                 let mut mailbox = Mailbox::default();
@@ -372,7 +371,7 @@ impl World {
                     if !o.intersect_into(ray, t_min, limit, hit) {
                         return None;
                     }
-                    (best, in_tree) = (Some(o), true);
+                    (best, deferred) = (Some(o), None);
                     Some(hit.t)
                 });
             }
@@ -380,14 +379,15 @@ impl World {
             WorldIndex::Bvh(b) => b.walk(ray, t_min, t_best, |first, count, mut limit| {
                 for &i in &b.items()[first..first + count] {
                     let o = &*self.bounded[i as usize];
-                    if o.intersect_into(ray, t_min, limit, hit) {
-                        (limit, best, in_tree) = (hit.t, Some(o), true);
+                    if nearer(o, ray, t_min, &mut limit, hit, &mut best) {
+                        deferred = None;
                     }
                 }
                 limit
             }),
         }
-        if let (Some(r), false) = (deferred, in_tree) {
+        // Still deferred: nothing came nearer, and t_best is its root.
+        if let Some(r) = deferred {
             r.hit_at_root(ray, t_best, hit);
         }
         best
@@ -417,8 +417,9 @@ impl World {
 }
 
 /// Tests `o` for a hit in (`t_min`, `*limit`), written into `hit`; on
-/// one, the limit shrinks to it and `o` is the nearest so far. Each
-/// nearest-hit search over a list of objects steps through it so.
+/// one, the limit shrinks to it, `o` is the nearest so far, and true is
+/// returned. Each nearest-hit search over a list of objects steps
+/// through it so.
 #[inline(always)]
 fn nearer<'w>(
     o: &'w dyn Shape,
@@ -427,11 +428,13 @@ fn nearer<'w>(
     limit: &mut f64,
     hit: &mut Hit,
     best: &mut Option<&'w dyn Shape>,
-) {
-    if o.intersect_into(ray, t_min, *limit, hit) {
+) -> bool {
+    let won = o.intersect_into(ray, t_min, *limit, hit);
+    if won {
         *limit = hit.t;
         *best = Some(o);
     }
+    won
 }
 
 /// [`World::first_hits`]' buffers, kept by the caller from pixel to pixel.
