@@ -60,6 +60,22 @@ impl Sphere {
         (point, gamma(5) * q.abs() + gamma(1) * point.abs())
     }
 
+    /// Whether no root of [`Sphere::roots`] can lie past `t_min`, told
+    /// before its division and square root: the line starts outside
+    /// (c = |f|² − r² > 0) and heads away from the centre (b = −f·d < 0),
+    /// so both roots are behind. Bit for bit what `roots` would say, as
+    /// its own c and b are these same expressions: there q = b −
+    /// √discr < 0, so q/a and c/q are both ≤ −0, and neither exceeds a
+    /// `t_min` ≥ 0. Every secondary ray that leaves a ball outwards (its
+    /// shadow ray, its reflection, lifted off the surface) meets its own
+    /// ball here first.
+    #[inline(always)]
+    fn surely_behind(&self, ray: &Ray, t_min: f64) -> bool {
+        let f = ray.origin - self.centre;
+        let b = -f.dot(ray.dir);
+        t_min >= 0.0 && b < 0.0 && f.length_squared() - self.radius * self.radius > 0.0
+    }
+
     /// The line's two crossings, in increasing t. The discriminant is the
     /// stable form of Haines et al. ("Precision Improvements for Ray/Sphere
     /// Intersection", Ray Tracing Gems ch. 7): b² − 4ac from the raw
@@ -70,6 +86,9 @@ impl Sphere {
     /// The nearer root in (t_min, t_max).
     #[inline]
     fn nearest_root(&self, ray: &Ray, t_min: f64, t_max: f64) -> Option<f64> {
+        if self.surely_behind(ray, t_min) {
+            return None;
+        }
         let (t0, t1) = self.roots(ray)?;
         let t = if t0 > t_min { t0 } else { t1 };
         (t > t_min && t < t_max).then_some(t)
@@ -223,8 +242,10 @@ impl Shape for Sphere {
     }
 
     fn occludes(&self, ray: &Ray, t_min: f64, t_max: f64) -> bool {
-        self.roots(ray)
-            .is_some_and(|(t0, t1)| (t0 > t_min && t0 < t_max) || (t1 > t_min && t1 < t_max))
+        !self.surely_behind(ray, t_min)
+            && self
+                .roots(ray)
+                .is_some_and(|(t0, t1)| (t0 > t_min && t0 < t_max) || (t1 > t_min && t1 < t_max))
     }
 
     fn crossings_lite(&self, ray: &Ray, out: &mut Vec<Crossing>) {
@@ -291,6 +312,54 @@ mod tests {
                 let want = s.nearest_root(ray, 0.0, f64::INFINITY);
                 assert_eq!(want.map(f64::to_bits), won[i].then(|| best[i].to_bits()));
             }
+        }
+    }
+
+    /// The roots as `roots` gives them, kept as `nearest_root` and
+    /// `occludes` keep them, with no shortcut.
+    fn by_the_roots(s: &Sphere, ray: &Ray, t_min: f64) -> (Option<u64>, bool) {
+        let Some((t0, t1)) = s.roots(ray) else {
+            return (None, false);
+        };
+        let t = if t0 > t_min { t0 } else { t1 };
+        let ahead = |t: f64| t > t_min && t < f64::INFINITY;
+        (ahead(t).then_some(t.to_bits()), ahead(t0) || ahead(t1))
+    }
+
+    /// Rays that leave a ball (lifted a little off it, as shadow rays and
+    /// reflections are, or sunk a little into it, or exactly on it) in
+    /// every direction: the shortcut for a ball behind the ray says
+    /// nothing the roots would not, to the bit, for every `t_min` ≥ 0,
+    /// and is not taken for a negative one (where the roots behind count).
+    #[test]
+    fn a_ball_behind_is_told_as_its_roots_tell_it() {
+        let mut rnd = testing::numbers(0xba11);
+        for (c, r) in [
+            (DVec3::ZERO, 1.0),
+            (DVec3::new(3.0, -1.0, 2.0), 0.4),
+            (DVec3::splat(1e5), 7.0),
+        ] {
+            let s = Sphere::new(c, r, 0);
+            let mut behind = 0;
+            for k in 0..4000 {
+                let u = DVec3::new(rnd(), rnd(), rnd()).normalize_or(DVec3::Y);
+                let lift = [0.0, 1e-12, -1e-12, 1e-6, 0.5, -0.5][k % 6];
+                let origin = c + u * (r * (1.0 + lift));
+                let dir = DVec3::new(rnd(), rnd(), rnd()) * [1.0, 1e-3, 1e3][k % 3];
+                let ray = Ray::new(origin, dir);
+                for t_min in [0.0, -0.0, 1e-9, 2.0, -1e-9, -3.0] {
+                    let want = by_the_roots(&s, &ray, t_min);
+                    let got = s.nearest_root(&ray, t_min, f64::INFINITY).map(f64::to_bits);
+                    assert_eq!(got, want.0, "{ray:?} from {t_min}");
+                    assert_eq!(s.occludes(&ray, t_min, f64::INFINITY), want.1, "{ray:?}");
+                    if s.surely_behind(&ray, t_min) {
+                        assert!(t_min >= 0.0 && want.0.is_none());
+                        behind += 1;
+                    }
+                }
+            }
+            // The shortcut is taken often enough to be the one tested.
+            assert!(behind > 2000, "{behind}");
         }
     }
 
