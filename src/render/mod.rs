@@ -271,11 +271,22 @@ impl<'a> PixelRenderer<'a> {
         debug_assert_eq!(sampler.count(), 1);
         scratch.row_spots.clear();
         scratch.row_lens.clear();
-        for k in 0..out.len() as u32 {
-            self.points(Pixel { x: x0 + k, y }, sampler, scratch);
-            scratch.row_spots.push(scratch.spots[0]);
-            if let Some(&q) = scratch.lens.first() {
-                scratch.row_lens.push(q);
+        if sampler.kind == crate::scene::SamplerKind::Regular {
+            // Every pixel's one regular point, in the pixel and on the
+            // lens, is the centre (the 2017 rule): the sampler is not
+            // asked a million times for it.
+            let centre = (0.5, 0.5);
+            scratch.row_spots.resize(out.len(), centre);
+            if self.camera.has_lens() {
+                scratch.row_lens.resize(out.len(), centre);
+            }
+        } else {
+            for k in 0..out.len() as u32 {
+                self.points(Pixel { x: x0 + k, y }, sampler, scratch);
+                scratch.row_spots.push(scratch.spots[0]);
+                if let Some(&q) = scratch.lens.first() {
+                    scratch.row_lens.push(q);
+                }
             }
         }
         let mut rays = std::mem::take(&mut scratch.row_rays);

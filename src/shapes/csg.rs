@@ -351,7 +351,11 @@ impl Csg {
             Reach::Bounded => true,
             Reach::Unbounded => false,
         };
+        // A difference's bounds are its first child's, which the caller
+        // has already clipped over this same span.
+        let clipped = i == 0 && self.op == CsgOp::Difference;
         if bounded
+            && !clipped
             && self.child_bounds[i]
                 .clip_with(ray, inv, span.0, span.1)
                 .is_none()
