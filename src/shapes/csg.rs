@@ -409,6 +409,9 @@ impl Csg {
     /// within `span` are sure to be complete and right. Children whose bit
     /// is set in `skip` are left out (a union's children that the caller
     /// has shown to be outside all along `span`, or dealt with apart).
+    /// Every caller has met the result's bounds over `span` first
+    /// ([`Csg::may_hit`]), so a difference's first child, whose box those
+    /// bounds are, is not clipped again.
     fn sweep(
         &self,
         ray: &Ray,
@@ -702,31 +705,54 @@ impl Csg {
     /// back as it was.
     fn nearest_of_clear(&self, ray: &Ray, t_min: f64, t_max: f64, hit: &mut Hit) -> Option<bool> {
         let inv = ray.dir.recip();
-        // What to put back when the sweep must decide after all.
-        let before = self.touches.then_some(*hit);
+        // What to put back when the sweep must decide after all: saved
+        // just before a child may first write into `hit` (160 bytes, so
+        // not for every ray). A floor, or any unbounded child that finds
+        // its root apart from its hit, gives only its root here (as in
+        // the world's own search), and its hit is made at the end if it
+        // still wins: a ray that meets only the floor copies nothing.
+        let mut before: Option<Hit> = None;
+        let mut deferred: Option<&dyn super::Roots> = None;
         let mut t_best = t_max;
         let mut winner = None;
         for (i, child) in self.children.iter().enumerate() {
-            if self.child_near(i, ray, inv, t_min, t_best)
-                && child.intersect_into(ray, t_min, t_best, hit)
+            if !self.child_near(i, ray, inv, t_min, t_best) {
+                continue;
+            }
+            if self.reach[i] == Reach::Unbounded
+                && let Some(r) = child.roots()
             {
-                t_best = hit.t;
-                winner = Some(i);
+                if let Some(t) = r.root_within(ray, t_min, t_best) {
+                    (t_best, winner, deferred) = (t, Some(i), Some(r));
+                }
+                continue;
+            }
+            if self.touches && before.is_none() {
+                before = Some(*hit);
+            }
+            if child.intersect_into(ray, t_min, t_best, hit) {
+                (t_best, winner, deferred) = (hit.t, Some(i), None);
             }
         }
         let Some(i) = winner else {
             return Some(false);
         };
-        if let Some(before) = before {
+        if self.touches {
             // Twice `same_t`'s reach on either side.
             let pad = 2e-9 * magnitude(t_best);
             let (lo, hi) = (t_best - pad, t_best + pad);
             for j in bits(self.touch[i]) {
                 if self.child_near(j, ray, inv, lo, hi) && self.children[j].occludes(ray, lo, hi) {
-                    *hit = before;
+                    // Untouched unless a child wrote into it.
+                    if let Some(before) = before {
+                        *hit = before;
+                    }
                     return None;
                 }
             }
+        }
+        if let Some(r) = deferred {
+            r.hit_at_root(ray, t_best, hit);
         }
         self.in_texture_space(ray, hit, i);
         self.tag(hit, i as u32);
