@@ -272,13 +272,13 @@ impl<'a> PixelRenderer<'a> {
         scratch.row_spots.clear();
         scratch.row_lens.clear();
         if sampler.kind == crate::scene::SamplerKind::Regular {
-            // Every pixel's one regular point, in the pixel and on the
-            // lens, is the centre (the 2017 rule): the sampler is not
-            // asked a million times for it.
-            let centre = (0.5, 0.5);
-            scratch.row_spots.resize(out.len(), centre);
-            if self.camera.has_lens() {
-                scratch.row_lens.resize(out.len(), centre);
+            // A regular pattern does not depend on the pixel (its one
+            // point is the centre, the 2017 rule): asked once for the
+            // row's pixels, not a million times.
+            self.points(Pixel { x: x0, y }, sampler, scratch);
+            scratch.row_spots.resize(out.len(), scratch.spots[0]);
+            if let Some(&q) = scratch.lens.first() {
+                scratch.row_lens.resize(out.len(), q);
             }
         } else {
             for k in 0..out.len() as u32 {

@@ -239,7 +239,7 @@ impl PixelSampler {
         let m = self.rows.clamp(1, MAX_SAMPLES);
         if n == 1 && m == 1 && self.kind == SamplerKind::Regular {
             // The 2017 pixel centre, without the hashing set up below:
-            // every pixel of a one-sample picture comes through here.
+            // every row of a one-sample picture comes through here.
             out.push((0.5, 0.5));
             return;
         }
